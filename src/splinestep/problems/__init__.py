@@ -1,0 +1,17 @@
+"""The report's test problems, with exact reference solutions.
+
+- :func:`cannonball` -- Newton's cannonball, the Kepler problem (report
+  Sec. 3.1), for the gravity parameters :data:`CANNONBALL_MU`;
+- :func:`rigid_body` -- Euler's torque-free rigid body in the report's
+  second-order form (Sec. 3.2);
+- :func:`harmonic` -- y'' = -omega^2 y, the model problem of the stability
+  and phase-error theory.
+"""
+
+from ._problem import Problem
+from .kepler import CANNONBALL_MU, ORBIT_TYPES, cannonball, kepler_exact
+from .oscillator import harmonic
+from .euler_top import euler_top_exact, rigid_body
+
+__all__ = ["Problem", "cannonball", "CANNONBALL_MU", "ORBIT_TYPES", "kepler_exact",
+           "rigid_body", "euler_top_exact", "harmonic"]

@@ -1,0 +1,92 @@
+"""The test-problem record shared by the report's problems."""
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+# Tolerances of the scipy solve used where no exact solution exists.
+REFERENCE_RTOL = 1e-13
+REFERENCE_ATOL = 1e-14
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A second-order initial value problem y'' = fun(t, y, y', *args).
+
+    Attributes
+    ----------
+    name : str
+    fun : callable
+        ``numba.njit`` right-hand side ``fun(t, y, yp, *args)``; its plain
+        Python source is ``fun.py_func``.
+    args : tuple
+        Parameters passed to ``fun`` and ``jac``.
+    y0, yp0 : ndarray, shape (m,)
+    t_span : (float, float)
+    h : float
+        The step the report uses.
+    jac : callable or None
+        ``jac(t, y, yp, *args) -> (dF/dy, dF/dyp)``.
+    exact : callable or None
+        ``exact(t) -> (y, yp)``, each of shape (m, k), the exact solution.
+    invariants : dict of str to callable
+        ``invariant(y, yp) -> array``, quantities the exact flow conserves
+        (y and yp of shape (m, k)).
+    notes : str
+        Where the values come from and what the report leaves unsaid.
+    """
+
+    name: str
+    fun: Callable
+    args: tuple
+    y0: np.ndarray
+    yp0: np.ndarray
+    t_span: tuple
+    h: float
+    jac: Callable = None
+    exact: Callable = None
+    invariants: dict = field(default_factory=dict)
+    notes: str = ""
+
+    def solve(self, method="spline", h=None, **kwargs):
+        """Integrate with ``method`` "spline" (:func:`splinestep.solve`) or
+        "rk4" (:func:`splinestep.rk4`) at step ``h`` (default: the
+        report's step); further keywords go to the solver."""
+        from .. import rk4, solve
+        solvers = {"spline": solve, "rk4": rk4}
+        if method not in solvers:
+            raise ValueError(f"method must be one of {tuple(solvers)}, got {method!r}")
+        if method == "spline" and "jac" not in kwargs:
+            kwargs["jac"] = self.jac
+        return solvers[method](self.fun, self.t_span, self.y0, self.yp0,
+                               self.h if h is None else h, args=self.args, **kwargs)
+
+    @property
+    def reference_kind(self):
+        """How :meth:`reference` is computed."""
+        if self.exact is not None:
+            return "exact"
+        return (f"scipy solve_ivp DOP853, rtol={REFERENCE_RTOL:g}, "
+                f"atol={REFERENCE_ATOL:g}")
+
+    def reference(self, t):
+        """Reference solution (y, yp) at times t, each of shape (m, k):
+        the exact solution when there is one, otherwise a DOP853 solve at
+        rtol = 1e-13, atol = 1e-14 of the first-order form."""
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        if self.exact is not None:
+            return self.exact(t)
+        m = self.y0.size
+        f = self.fun.py_func if hasattr(self.fun, "py_func") else self.fun
+
+        def first_order(s, u):
+            return np.concatenate([u[m:], f(s, u[:m], u[m:], *self.args)])
+
+        sol = solve_ivp(first_order, (self.t_span[0], t[-1]),
+                        np.concatenate([self.y0, self.yp0]), method="DOP853",
+                        t_eval=t, rtol=REFERENCE_RTOL, atol=REFERENCE_ATOL)
+        if not sol.success:
+            raise RuntimeError(f"reference solve failed: {sol.message}")
+        return sol.y[:m], sol.y[m:]

@@ -1,0 +1,177 @@
+"""Newton's cannonball: the Kepler problem x'' = -mu x / |x|^3 (report eqs. 10-12).
+
+The report does not print its initial values.  The launch x(0) = (1, 0),
+x'(0) = (0, 1) gives, for its four gravity parameters, exactly the orbits it
+names: the energy is 1/2 - mu, so mu = 0.4 is hyperbolic, 0.5 parabolic,
+0.6 elliptic and 1 circular.  The energy is 1/2 |x'|^2 - mu / |x| (the
+report's eq. 13 omits mu, which is right only for mu = 1).
+
+The exact solution uses universal variables (one Kepler equation for all
+three conic types): Bate, Mueller & White, "Fundamentals of
+Astrodynamics", Dover (1971), Ch. 4; Curtis, "Orbital Mechanics for
+Engineering Students", Sec. 3.7.
+"""
+
+import numpy as np
+from numba import njit
+
+from ._problem import Problem
+
+CANNONBALL_MU = (0.4, 0.5, 0.6, 1.0)
+ORBIT_TYPES = {0.4: "hyperbolic", 0.5: "parabolic", 0.6: "elliptic", 1.0: "circular"}
+LAUNCH_POSITION = (1.0, 0.0)
+LAUNCH_VELOCITY = (0.0, 1.0)
+T_SPAN = (0.0, 50.0)
+STEP = 0.01
+
+
+@njit(cache=True)
+def kepler_rhs(t, y, yp, mu):
+    """x'' = -mu x / |x|^3 (eqs. 10-12: omega^2 = mu / r^3)."""
+    r2 = y[0] * y[0] + y[1] * y[1]
+    w2 = mu / (r2 * np.sqrt(r2))
+    out = np.empty(2)
+    out[0] = -w2 * y[0]
+    out[1] = -w2 * y[1]
+    return out
+
+
+@njit(cache=True)
+def kepler_jac(t, y, yp, mu):
+    """dF/dx = -mu / r^3 (I - 3 x x^T / r^2); dF/dx' = 0."""
+    r2 = y[0] * y[0] + y[1] * y[1]
+    w2 = mu / (r2 * np.sqrt(r2))
+    fy = np.empty((2, 2))
+    for i in range(2):
+        for j in range(2):
+            fy[i, j] = w2 * (3.0 * y[i] * y[j] / r2 - (1.0 if i == j else 0.0))
+    return fy, np.zeros((2, 2))
+
+
+def energy(mu):
+    """H = 1/2 |x'|^2 - mu / |x|, for y, yp of shape (2, k)."""
+    return lambda y, yp: 0.5 * np.sum(yp * yp, axis=0) - mu / np.hypot(y[0], y[1])
+
+
+def angular_momentum(y, yp):
+    """M = x y' - y x' (eq. 14)."""
+    return y[0] * yp[1] - y[1] * yp[0]
+
+
+def energy_as_printed(y, yp):
+    """The report's eq. 13 as printed, 1/2 |x'|^2 - 1/|x| (no mu)."""
+    return energy(1.0)(y, yp)
+
+
+def _stumpff(z):
+    """Stumpff functions C(z) and S(z), with series near z = 0."""
+    z = np.asarray(z, dtype=float)
+    c = np.empty_like(z)
+    s = np.empty_like(z)
+    small = np.abs(z) < 1.0
+    pos = (z >= 1.0)
+    neg = (z <= -1.0)
+    zs = z[small]
+    term_c = np.full_like(zs, 0.5)
+    term_s = np.full_like(zs, 1.0 / 6.0)
+    sum_c, sum_s = term_c.copy(), term_s.copy()
+    for k in range(1, 12):  # C = sum (-z)^k/(2k+2)!, S = sum (-z)^k/(2k+3)!
+        term_c = term_c * (-zs) / ((2 * k + 1) * (2 * k + 2))
+        term_s = term_s * (-zs) / ((2 * k + 2) * (2 * k + 3))
+        sum_c += term_c
+        sum_s += term_s
+    c[small], s[small] = sum_c, sum_s
+    sq = np.sqrt(z[pos])
+    c[pos] = (1.0 - np.cos(sq)) / z[pos]
+    s[pos] = (sq - np.sin(sq)) / sq ** 3
+    sq = np.sqrt(-z[neg])
+    c[neg] = (np.cosh(sq) - 1.0) / (-z[neg])
+    s[neg] = (np.sinh(sq) - sq) / sq ** 3
+    return c, s
+
+
+def kepler_exact(t, mu, r0=LAUNCH_POSITION, v0=LAUNCH_VELOCITY):
+    """Exact position and velocity of the Kepler orbit at times t >= 0.
+
+    Solves the universal Kepler equation for the universal anomaly chi by a
+    bracketed Newton iteration (the equation is monotone in chi) and applies
+    the Lagrange f and g coefficients.  Valid for elliptic, parabolic and
+    hyperbolic orbits; accurate to about 1e-13 relative over the report's span.
+
+    Returns
+    -------
+    x, v : ndarray, shape (2, k)
+    """
+    t = np.atleast_1d(np.asarray(t, dtype=float))
+    if np.any(t < 0):
+        raise ValueError("t must be non-negative")
+    r0 = np.asarray(r0, dtype=float)
+    v0 = np.asarray(v0, dtype=float)
+    rn = np.hypot(*r0)
+    sqmu = np.sqrt(mu)
+    sigma = r0 @ v0 / sqmu
+    alpha = 2.0 / rn - v0 @ v0 / mu
+    # Periapsis distance bounds r from below, so F(chi) >= r_p chi - sqrt(mu) t.
+    h = r0[0] * v0[1] - r0[1] * v0[0]
+    ecc = np.hypot(*((v0 @ v0 - mu / rn) * r0 - (r0 @ v0) * v0)) / mu
+    r_peri = h * h / mu / (1.0 + ecc)
+
+    def kepler(chi):
+        z = alpha * chi * chi
+        c, s = _stumpff(z)
+        f = sigma * chi * chi * c + (1.0 - alpha * rn) * chi ** 3 * s + rn * chi - sqmu * t
+        r = chi * chi * c + sigma * chi * (1.0 - z * s) + rn * (1.0 - z * c)
+        return f, r
+
+    lo = np.zeros_like(t)
+    hi = sqmu * t / r_peri * (1.0 + 1e-9) + 1e-300
+    chi = sqmu * t / rn if alpha <= 0 else np.minimum(sqmu * t * alpha, hi)
+    chi = np.clip(chi, lo, hi)
+    for _ in range(200):
+        f, r = kepler(chi)
+        lo = np.where(f < 0, chi, lo)
+        hi = np.where(f > 0, chi, hi)
+        step = f / r
+        new = chi - step
+        outside = (new <= lo) | (new >= hi)
+        new = np.where(outside, 0.5 * (lo + hi), new)
+        done = np.abs(new - chi) <= 4e-16 * np.maximum(np.abs(chi), 1.0)
+        chi = new
+        if np.all(done):
+            break
+    else:  # pragma: no cover - the bracket guarantees convergence
+        raise RuntimeError("universal Kepler equation did not converge")
+    z = alpha * chi * chi
+    c, s = _stumpff(z)
+    r = chi * chi * c + sigma * chi * (1.0 - z * s) + rn * (1.0 - z * c)
+    f = 1.0 - chi * chi / rn * c
+    g = t - chi ** 3 * s / sqmu
+    fdot = sqmu / (r * rn) * chi * (z * s - 1.0)
+    gdot = 1.0 - chi * chi / r * c
+    x = np.outer(r0, f) + np.outer(v0, g)
+    v = np.outer(r0, fdot) + np.outer(v0, gdot)
+    return x, v
+
+
+def cannonball(mu):
+    """Newton's cannonball (report Sec. 3.1) for gravity parameter ``mu``.
+
+    Launch x(0) = (1, 0), x'(0) = (0, 1) (not printed in the report; it is
+    the launch that gives its four orbit types), t in [0, 50], h = 0.01.
+    Invariants: the energy 1/2 |x'|^2 - mu/|x| and the angular momentum
+    x y' - y x'.
+    """
+    mu = float(mu)
+    if not (np.isfinite(mu) and mu > 0):
+        raise ValueError(f"mu must be positive and finite, got {mu}")
+    kind = ORBIT_TYPES.get(mu, "elliptic" if mu > 0.5 else "hyperbolic")
+    return Problem(
+        name=f"cannonball mu={mu:g} ({kind})",
+        fun=kepler_rhs, args=(mu,), jac=kepler_jac,
+        y0=np.array(LAUNCH_POSITION), yp0=np.array(LAUNCH_VELOCITY),
+        t_span=T_SPAN, h=STEP,
+        exact=lambda t: kepler_exact(t, mu),
+        invariants={"energy": energy(mu), "angular momentum": angular_momentum},
+        notes=("Launch x(0) = (1, 0), x'(0) = (0, 1) (not printed in the report); "
+               "energy 1/2|v|^2 - mu/r = 1/2 - mu."),
+    )

@@ -1,0 +1,67 @@
+"""The result type returned by :func:`splinestep.solve` and :func:`splinestep.rk4`,
+and the dense output of the spline stepper."""
+
+import numpy as np
+from scipy.interpolate import PPoly
+from scipy.optimize import OptimizeResult
+
+
+class OdeResult(OptimizeResult):
+    """Result of an integration, in the style of scipy's ``OdeResult``.
+
+    Attributes
+    ----------
+    t : ndarray, shape (k,)
+        Times of the reported values (the knots, or ``t_eval``).
+    y, yp, ypp : ndarray, shape (m, k)
+        Solution, its first and its second derivative at ``t``.
+    sol : SplineSolution or None
+        The piecewise-cubic solution (``dense_output=True`` of
+        :func:`splinestep.solve`), otherwise None.
+    nfev : int
+        Number of evaluations of the right-hand side (finite-difference
+        Jacobian evaluations included).
+    njev : int
+        Number of evaluations of the user-supplied ``jac``.
+    niter : int
+        Total number of implicit iterations (fixed-point sweeps or Newton
+        updates) over all steps.
+    nstep : int
+        Number of steps taken.
+    status : int
+        0 if the end of the span was reached, -1 if the run failed.
+    message : str
+        Human-readable description of the outcome.
+    success : bool
+        ``status == 0``.
+    """
+
+
+class SplineSolution:
+    """The C2 cubic spline that the stepper builds, as a callable.
+
+    ``sol(t)`` returns y(t); ``sol(t, nu)`` its ``nu``-th derivative
+    (``nu`` in 0..3).  Results have shape (m,) for scalar ``t`` and (m, k)
+    for an array of k times, as scipy's ``OdeSolution``.
+
+    Parameters
+    ----------
+    knots : ndarray, shape (n + 1,)
+    y, yp, ypp : ndarray, shape (n + 1, m)
+        Values, first and second derivatives at the knots.
+    """
+
+    def __init__(self, knots, y, yp, ypp):
+        h = np.diff(knots)[:, None]
+        a, b, c = y[:-1], yp[:-1], 0.5 * ypp[:-1]
+        d = (ypp[1:] - ypp[:-1]) / (6.0 * h)
+        # PPoly wants the highest power first: shape (4, n, m).
+        self.ppoly = PPoly(np.stack([d, c, b, a]), knots, extrapolate=False)
+        self.t_min, self.t_max = knots[0], knots[-1]
+
+    def __call__(self, t, nu=0):
+        t = np.asarray(t, dtype=float)
+        if np.any((t < self.t_min) | (t > self.t_max)):
+            raise ValueError(
+                f"t must lie in the integration span [{self.t_min}, {self.t_max}]")
+        return np.moveaxis(self.ppoly(t, nu), -1, 0)

@@ -1,0 +1,103 @@
+"""Bad input is refused with the argument's name; a run that fails part way
+stops, says where and why, and returns only the steps it completed."""
+
+import numpy as np
+import pytest
+from numba import njit
+
+import splinestep
+
+f = lambda t, y, yp: -y
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(t_span=(1, 1)), "t_span"),
+    (dict(t_span=(1, 0)), "t_span"),
+    (dict(t_span=(0, np.inf)), "t_span"),
+    (dict(t_span=(0, np.nan)), "t_span"),
+    (dict(t_span=5), "t_span"),
+    (dict(h=0.0), "h"),
+    (dict(h=-0.1), "h"),
+    (dict(h=np.nan), "h"),
+    (dict(h=np.inf), "h"),
+    (dict(h=2.0), "h"),
+    (dict(h=None, knots=[0, 0.5, 0.5, 1]), "knots"),
+    (dict(h=None, knots=[0, 0.7, 0.5, 1]), "knots"),
+    (dict(h=None, knots=[0, 0.5, 0.9]), "knots"),
+    (dict(h=None, knots=[0.1, 0.5, 1.0]), "knots"),
+    (dict(h=None), "knots"),
+    (dict(y0=[1.0, 2.0]), "y0 and yp0"),
+    (dict(y0=np.nan), "y0"),
+    (dict(yp0=np.inf), "yp0"),
+    (dict(iteration="secant"), "iteration"),
+    (dict(tol=0.0), "tol"),
+    (dict(tol=-1e-8), "tol"),
+    (dict(max_iter=0), "max_iter"),
+    (dict(iterations=0), "iterations"),
+    (dict(t_eval=[0.5, 0.2]), "t_eval"),
+    (dict(t_eval=[0.5, 2.0]), "t_eval"),
+    (dict(args=[1.0]), "args"),
+])
+def test_solve_rejects_bad_input(kwargs, name):
+    call = dict(fun=f, t_span=(0, 1), y0=1.0, yp0=0.0, h=0.1)
+    call.update(kwargs)
+    with pytest.raises(ValueError, match=name):
+        splinestep.solve(call.pop("fun"), call.pop("t_span"), call.pop("y0"),
+                         call.pop("yp0"), **call)
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(t_span=(1, 0)), "t_span"), (dict(h=0.0), "h"), (dict(h=3.0), "h"),
+    (dict(yp0=[0.0, 1.0]), "y0 and yp0"), (dict(t_eval=[-1.0]), "t_eval")])
+def test_rk4_rejects_bad_input(kwargs, name):
+    call = dict(t_span=(0, 1), y0=1.0, yp0=0.0, h=0.1)
+    call.update(kwargs)
+    with pytest.raises(ValueError, match=name):
+        splinestep.rk4(f, call.pop("t_span"), call.pop("y0"), call.pop("yp0"), **call)
+
+
+def blows_up(t, y, yp):
+    """A right-hand side that fails (NaN) from t = 0.55 on."""
+    return -y if t < 0.55 else np.full_like(y, np.nan)
+
+
+blows_up_compiled = njit(blows_up)
+
+
+@pytest.mark.parametrize("solver", ["spline", "rk4"])
+@pytest.mark.parametrize("fun", [blows_up, blows_up_compiled], ids=["python", "compiled"])
+def test_failure_part_way_returns_completed_steps(solver, fun):
+    if solver == "spline":
+        res = splinestep.solve(fun, (0, 1), 1.0, 0.0, 0.1)
+    else:
+        res = splinestep.rk4(fun, (0, 1), 1.0, 0.0, 0.1)
+    assert res.status == -1 and not res.success
+    assert "not finite" in res.message and "Step 6 " in res.message
+    assert "t = 0.5" in res.message and "t = 0.6" in res.message
+    assert res.nstep == 5
+    assert np.allclose(res.t, np.arange(6) * 0.1, atol=1e-15)
+    assert np.all(np.isfinite(res.y)) and np.all(np.isfinite(res.ypp))
+
+
+def test_failure_part_way_with_t_eval_stops_reporting_at_last_knot():
+    res = splinestep.solve(blows_up, (0, 1), 1.0, 0.0, 0.1, t_eval=np.linspace(0, 1, 21),
+                           dense_output=True)
+    assert res.status == -1
+    assert res.t[-1] <= 0.5 + 1e-15 and res.t.size == 11
+    assert np.all(np.isfinite(res.y))
+    assert res.sol(0.45).shape == (1,)
+
+
+def test_wrong_shape_is_a_failure_not_a_crash():
+    res = splinestep.solve(lambda t, y, yp: np.zeros(3), (0, 1), [1.0, 2.0], [0.0, 0.0], 0.1)
+    assert res.status == -1 and "wrong shape" in res.message and "initial" in res.message
+    assert res.t.size == 0
+
+
+def test_nonconvergence_names_step_and_time():
+    # w h = 3 > sqrt(6): the sweep multiplies the error by -1.5 each time.
+    res = splinestep.solve(lambda t, y, yp: -900.0 * y, (0, 1), 1.0, 0.0, 0.1, max_iter=30)
+    assert res.status == -1
+    assert res.message.startswith("Step 1 (from t = 0 to t = 0.10000000000000001) failed")
+    assert "did not converge in 30 iterations" in res.message
+    assert res.nstep == 0 and res.t.tolist() == [0.0]
