@@ -36,89 +36,111 @@ def _rk4_loop(fun, args, t0, h, n, tf, y0, yp0, t_eval, store_knots):
     YE = np.empty((ne, m))
     YPE = np.empty((ne, m))
     YPPE = np.empty((ne, m))
+    y = y0.copy()
+    yp = yp0.copy()
+    ypp = np.empty(m)
+    y_stage = np.empty(m)
+    v = np.empty(m)          # velocity of the current stage
+    a = np.empty(m)          # acceleration of the current stage
+    sum_v = np.empty(m)
+    sum_a = np.empty(m)
+    y_new = np.empty(m)
+    yp_new = np.empty(m)
+    ypp_new = np.empty(m)
     nfev = 0
     n_eval = 0
 
-    y = y0.copy()
-    yp = yp0.copy()
-    ypp = np.asarray(fun(t0, y, yp, *args))
+    g = np.asarray(fun(t0, y, yp, *args))
     nfev += 1
-    if ypp.ndim != 1 or ypp.shape[0] != m:
+    if g.ndim != 1 or g.shape[0] != m:
         return (BAD_SHAPE, 0, t0, t0, nfev, 0, 0, 0, 0, 0, T, Y, YP, YPP, YE, YPE, YPPE)
-    if not np.all(np.isfinite(ypp)):
-        return (NON_FINITE, 0, t0, t0, nfev, 0, 0, 0, 0, 0, T, Y, YP, YPP, YE, YPE, YPPE)
+    for k in range(m):
+        ypp[k] = g[k]
+        if not abs(g[k]) < np.inf:
+            return (NON_FINITE, 0, t0, t0, nfev, 0, 0, 0, 0, 0, T, Y, YP, YPP, YE, YPE, YPPE)
     T[0] = t0
-    Y[0] = y
-    YP[0] = yp
-    YPP[0] = ypp
+    for k in range(m):
+        Y[0, k] = y[k]
+        YP[0, k] = yp[k]
+        YPP[0, k] = ypp[k]
     n_knots = 1
     while n_eval < ne and t_eval[n_eval] <= t0:
-        YE[n_eval] = y
-        YPE[n_eval] = yp
-        YPPE[n_eval] = ypp
+        for k in range(m):
+            YE[n_eval, k] = y[k]
+            YPE[n_eval, k] = yp[k]
+            YPPE[n_eval, k] = ypp[k]
         n_eval += 1
 
     t = t0
     for i in range(n):
         t_new = t0 + (i + 1) * h if i + 1 < n else tf
         dt = t_new - t
-        # Stages k_j = (velocity, acceleration) of u = (y, y').
-        v = yp
-        a = ypp
-        sum_v = FIRST_WEIGHT * v
-        sum_a = FIRST_WEIGHT * a
+        # Stage 1 is (y', y'') at t; stage j+1 advances by NODES[j] dt with stage j.
+        for k in range(m):
+            v[k] = yp[k]
+            a[k] = ypp[k]
+            sum_v[k] = FIRST_WEIGHT * v[k]
+            sum_a[k] = FIRST_WEIGHT * a[k]
         status = OK
-        for j in range(3):
-            c = NODES[j] * dt
-            y_stage = y + c * v
-            v = yp + c * a
-            a = np.asarray(fun(t + c, y_stage, v, *args))
+        for j in range(4):
+            if j < 3:
+                c = NODES[j] * dt
+                for k in range(m):
+                    y_stage[k] = y[k] + c * v[k]
+                    v[k] = yp[k] + c * a[k]
+                g = np.asarray(fun(t + c, y_stage, v, *args))
+            else:
+                # y'' at the new knot: the first stage of the next step.
+                for k in range(m):
+                    y_new[k] = y[k] + dt * sum_v[k]
+                    yp_new[k] = yp[k] + dt * sum_a[k]
+                g = np.asarray(fun(t_new, y_new, yp_new, *args))
             nfev += 1
-            if a.ndim != 1 or a.shape[0] != m:
+            if g.ndim != 1 or g.shape[0] != m:
                 status = BAD_SHAPE
                 break
-            if not np.all(np.isfinite(a)):
-                status = NON_FINITE
+            for k in range(m):
+                if not abs(g[k]) < np.inf:
+                    status = NON_FINITE
+                a[k] = g[k]
+            if status != OK:
                 break
-            sum_v = sum_v + STAGE_WEIGHTS[j] * v
-            sum_a = sum_a + STAGE_WEIGHTS[j] * a
-        if status == OK:
-            y_new = y + dt * sum_v
-            yp_new = yp + dt * sum_a
-            # y'' at the new knot: the first stage of the next step.
-            ypp_new = np.asarray(fun(t_new, y_new, yp_new, *args))
-            nfev += 1
-            if ypp_new.ndim != 1 or ypp_new.shape[0] != m:
-                status = BAD_SHAPE
-            elif not np.all(np.isfinite(ypp_new)):
-                status = NON_FINITE
+            if j < 3:
+                for k in range(m):
+                    sum_v[k] += STAGE_WEIGHTS[j] * v[k]
+                    sum_a[k] += STAGE_WEIGHTS[j] * a[k]
         if status != OK:
             return (status, i + 1, t, t_new, nfev, 0, 0, i, n_knots, n_eval,
                     T, Y, YP, YPP, YE, YPE, YPPE)
+        for k in range(m):
+            ypp_new[k] = a[k]
         while n_eval < ne and t_eval[n_eval] <= t_new:
-            # Cubic Hermite basis on s = (t - t_i) / dt.
+            # Cubic Hermite basis on s = (t - t_i) / dt, and its derivative.
             s = (t_eval[n_eval] - t) / dt
             h00 = (1.0 + 2.0 * s) * (1.0 - s) ** 2
-            h10 = s * (1.0 - s) ** 2
+            h10 = s * (1.0 - s) ** 2 * dt
             h01 = s * s * (3.0 - 2.0 * s)
-            h11 = s * s * (s - 1.0)
+            h11 = s * s * (s - 1.0) * dt
             d00 = 6.0 * s * (s - 1.0) / dt
             d10 = (1.0 - s) * (1.0 - 3.0 * s)
-            d01 = -d00
             d11 = s * (3.0 * s - 2.0)
-            YE[n_eval] = h00 * y + (h10 * dt) * yp + h01 * y_new + (h11 * dt) * yp_new
-            YPE[n_eval] = h00 * yp + (h10 * dt) * ypp + h01 * yp_new + (h11 * dt) * ypp_new
-            YPPE[n_eval] = d00 * yp + d10 * ypp + d01 * yp_new + d11 * ypp_new
+            for k in range(m):
+                YE[n_eval, k] = h00 * y[k] + h10 * yp[k] + h01 * y_new[k] + h11 * yp_new[k]
+                YPE[n_eval, k] = h00 * yp[k] + h10 * ypp[k] + h01 * yp_new[k] + h11 * ypp_new[k]
+                YPPE[n_eval, k] = (d00 * (yp[k] - yp_new[k]) + d10 * ypp[k]
+                                   + d11 * ypp_new[k])
             n_eval += 1
-        y = y_new
-        yp = yp_new
-        ypp = ypp_new
+        for k in range(m):
+            y[k] = y_new[k]
+            yp[k] = yp_new[k]
+            ypp[k] = ypp_new[k]
         t = t_new
         if store_knots:
             T[n_knots] = t
-            Y[n_knots] = y
-            YP[n_knots] = yp
-            YPP[n_knots] = ypp
+            for k in range(m):
+                Y[n_knots, k] = y[k]
+                YP[n_knots, k] = yp[k]
+                YPP[n_knots, k] = ypp[k]
             n_knots += 1
     return (OK, -1, t, t, nfev, 0, 0, n, n_knots, n_eval, T, Y, YP, YPP, YE, YPE, YPPE)
 

@@ -28,10 +28,42 @@ from .result import SplineSolution
 # The two coefficients of the unknown z in eqs. 6-7, as multiples of h^2 and h.
 Y_WEIGHT = 1.0 / 6.0   # d a_{i+1} / d z = h^2 / 6
 YP_WEIGHT = 0.5        # d b_{i+1} / d z = h / 2
+# Relative step of the finite-difference Jacobian: sqrt(machine epsilon).
+FD_STEP = 1.4901161193847656e-08
 
 ITERATIONS = ("fixed-point", "newton")
 # Loop modes: the iteration, and whether it runs a fixed number of times.
 FIXED_POINT, NEWTON = 0, 1
+
+
+@njit(cache=True, error_model="numpy")
+def _lu_solve(a, b):
+    """Solve a x = b by LU factorisation with partial pivoting (Gaussian
+    elimination, overwriting a and b).  Written out because numba's LAPACK
+    binding (np.linalg.solve) multiplies the compile time of the step loop
+    by four; a singular matrix gives a non-finite x."""
+    m = b.shape[0]
+    for col in range(m):
+        piv = col
+        for row in range(col + 1, m):
+            if abs(a[row, col]) > abs(a[piv, col]):
+                piv = row
+        if piv != col:
+            for k in range(m):
+                a[col, k], a[piv, k] = a[piv, k], a[col, k]
+            b[col], b[piv] = b[piv], b[col]
+        for row in range(col + 1, m):
+            factor = a[row, col] / a[col, col]
+            for k in range(col, m):
+                a[row, k] -= factor * a[col, k]
+            b[row] -= factor * b[col]
+    x = np.empty(m)
+    for row in range(m - 1, -1, -1):
+        acc = b[row]
+        for k in range(row + 1, m):
+            acc -= a[row, k] * x[k]
+        x[row] = acc / a[row, row]
+    return x
 
 
 # Not cache=True: numba's on-disk cache cannot key a loop on the function it
@@ -42,6 +74,8 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval,
                  store_knots, mode, n_iter, until_converged, tol):
     """Step from t0 to tf.  Written once for both paths: compiled by numba
     when ``fun`` is compiled, run as plain Python (``py_func``) otherwise.
+    Component loops over preallocated buffers keep the step free of
+    temporary arrays.
 
     Returns (status, fail_step, t_last, t_fail, nfev, njev, niter, nstep,
     n_knots, n_eval, T, Y, YP, YPP, YE, YPE, YPPE); see ``_base.build_result``.
@@ -56,31 +90,40 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval,
     YE = np.empty((ne, m))
     YPE = np.empty((ne, m))
     YPPE = np.empty((ne, m))
-    eye = np.eye(m)
+    y = y0.copy()            # a_i
+    yp = yp0.copy()          # b_i
+    base_y = np.empty(m)     # a_{i+1} without the unknown's term
+    base_yp = np.empty(m)    # b_{i+1} without the unknown's term
+    z = np.empty(m)          # the unknown y''_{i+1} = 2 c_{i+1}
+    y_new = np.empty(m)
+    yp_new = np.empty(m)
     nfev = 0
     njev = 0
     niter = 0
     n_eval = 0
 
-    y = y0.copy()
-    yp = yp0.copy()
-    ypp = np.asarray(fun(t0, y, yp, *args))
+    g = np.asarray(fun(t0, y, yp, *args))
     nfev += 1
-    if ypp.ndim != 1 or ypp.shape[0] != m:
+    if g.ndim != 1 or g.shape[0] != m:
         return (BAD_SHAPE, 0, t0, t0, nfev, njev, niter, 0, 0, 0,
                 T, Y, YP, YPP, YE, YPE, YPPE)
-    if not np.all(np.isfinite(ypp)):
-        return (NON_FINITE, 0, t0, t0, nfev, njev, niter, 0, 0, 0,
-                T, Y, YP, YPP, YE, YPE, YPPE)
+    ypp = np.empty(m)        # 2 c_i
+    for k in range(m):
+        ypp[k] = g[k]
+        if not abs(g[k]) < np.inf:
+            return (NON_FINITE, 0, t0, t0, nfev, njev, niter, 0, 0, 0,
+                    T, Y, YP, YPP, YE, YPE, YPPE)
     T[0] = t0
-    Y[0] = y
-    YP[0] = yp
-    YPP[0] = ypp
+    for k in range(m):
+        Y[0, k] = y[k]
+        YP[0, k] = yp[k]
+        YPP[0, k] = ypp[k]
     n_knots = 1
     while n_eval < ne and t_eval[n_eval] <= t0:
-        YE[n_eval] = y
-        YPE[n_eval] = yp
-        YPPE[n_eval] = ypp
+        for k in range(m):
+            YE[n_eval, k] = y[k]
+            YPE[n_eval, k] = yp[k]
+            YPPE[n_eval, k] = ypp[k]
         n_eval += 1
 
     t = t0
@@ -94,72 +137,95 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval,
         dt = t_new - t
         wy = Y_WEIGHT * dt * dt
         wyp = YP_WEIGHT * dt
-        # eqs. 6-7 without the unknown: a_{i+1} = base_y + wy z, b_{i+1} = base_yp + wyp z
-        base_y = y + dt * yp + (dt * dt / 3.0) * ypp
-        base_yp = yp + wyp * ypp
-        z = ypp.copy()  # the report's initial guess d_i = 0
+        w_max = max(wy, wyp)
+        for k in range(m):
+            base_y[k] = y[k] + dt * yp[k] + (dt * dt / 3.0) * ypp[k]
+            base_yp[k] = yp[k] + wyp * ypp[k]
+            z[k] = ypp[k]  # the report's initial guess d_i = 0
         status = NOT_CONVERGED if until_converged else OK
         for _ in range(n_iter):
-            y_new = base_y + wy * z
-            yp_new = base_yp + wyp * z
+            size = 0.0
+            for k in range(m):
+                y_new[k] = base_y[k] + wy * z[k]
+                yp_new[k] = base_yp[k] + wyp * z[k]
+                size = max(size, abs(y_new[k]), abs(yp_new[k]))
             g = np.asarray(fun(t_new, y_new, yp_new, *args))
             nfev += 1
             if g.ndim != 1 or g.shape[0] != m:
                 status = BAD_SHAPE
                 break
-            if not np.all(np.isfinite(g)):
-                status = NON_FINITE
-                break
             if mode == FIXED_POINT:
-                dz = g - z
+                # Sweep: eq. 9 gives the new c_{i+1} = z / 2 (eq. 8 then d_i).
+                change = 0.0
+                for k in range(m):
+                    if not abs(g[k]) < np.inf:
+                        status = NON_FINITE
+                    change = max(change, abs(g[k] - z[k]))
+                    z[k] = g[k]
+                if status == NON_FINITE:
+                    break
             else:
-                # Newton on R(z) = z - F(t, a(z), b(z)) = 0: J = I - dF/dz.
+                # Newton on R(z) = z - F(t, a(z), b(z)) = 0 with J = I - dF/dz.
+                for k in range(m):
+                    if not abs(g[k]) < np.inf:
+                        status = NON_FINITE
+                if status == NON_FINITE:
+                    break
                 if jac is None:
                     dgdz = np.empty((m, m))
                     for k in range(m):
-                        step = 1.4901161193847656e-08 * max(1.0, abs(z[k]))
-                        zk = z.copy()
-                        zk[k] += step
-                        gk = np.asarray(fun(t_new, base_y + wy * zk, base_yp + wyp * zk, *args))
-                        dgdz[:, k] = (gk - g) / step
+                        step = FD_STEP * max(1.0, abs(z[k]))
+                        saved = z[k]
+                        z[k] = saved + step
+                        for j in range(m):
+                            y_new[j] = base_y[j] + wy * z[j]
+                            yp_new[j] = base_yp[j] + wyp * z[j]
+                        gk = np.asarray(fun(t_new, y_new, yp_new, *args))
+                        z[k] = saved
+                        for j in range(m):
+                            dgdz[j, k] = (gk[j] - g[j]) / step
                     nfev += m
                 else:
                     fy, fyp = jac(t_new, y_new, yp_new, *args)
                     njev += 1
                     dgdz = wy * np.asarray(fy) + wyp * np.asarray(fyp)
-                dz = np.linalg.solve(eye - dgdz, g - z)
-                if not np.all(np.isfinite(dz)):
-                    status = SINGULAR
+                dz = _lu_solve(np.eye(m) - dgdz, g - z)
+                change = 0.0
+                for k in range(m):
+                    if not abs(dz[k]) < np.inf:
+                        status = SINGULAR
+                    change = max(change, abs(dz[k]))
+                    z[k] += dz[k]
+                if status == SINGULAR:
                     break
-            z = z + dz
             niter += 1
-            if until_converged:
-                change = max(np.max(np.abs(wy * dz)), np.max(np.abs(wyp * dz)))
-                size = max(np.max(np.abs(y_new)), np.max(np.abs(yp_new)))
-                if change <= tol * size:
-                    status = OK
-                    break
+            if until_converged and w_max * change <= tol * size:
+                status = OK
+                break
         if status != OK:
             return (status, i + 1, t, t_new, nfev, njev, niter, i, n_knots, n_eval,
                     T, Y, YP, YPP, YE, YPE, YPPE)
 
         # Report at the requested times inside (t, t_new] from the cubic itself.
-        d = (z - ypp) / (6.0 * dt)
         while n_eval < ne and t_eval[n_eval] <= t_new:
             s = t_eval[n_eval] - t
-            YE[n_eval] = y + s * (yp + s * (0.5 * ypp + s * d))
-            YPE[n_eval] = yp + s * (ypp + 3.0 * s * d)
-            YPPE[n_eval] = ypp + 6.0 * s * d
+            for k in range(m):
+                d = (z[k] - ypp[k]) / (6.0 * dt)
+                YE[n_eval, k] = y[k] + s * (yp[k] + s * (0.5 * ypp[k] + s * d))
+                YPE[n_eval, k] = yp[k] + s * (ypp[k] + 3.0 * s * d)
+                YPPE[n_eval, k] = ypp[k] + 6.0 * s * d
             n_eval += 1
-        y = base_y + wy * z
-        yp = base_yp + wyp * z
-        ypp = z
+        for k in range(m):
+            y[k] = base_y[k] + wy * z[k]
+            yp[k] = base_yp[k] + wyp * z[k]
+            ypp[k] = z[k]
         t = t_new
         if store_knots:
             T[n_knots] = t
-            Y[n_knots] = y
-            YP[n_knots] = yp
-            YPP[n_knots] = ypp
+            for k in range(m):
+                Y[n_knots, k] = y[k]
+                YP[n_knots, k] = yp[k]
+                YPP[n_knots, k] = ypp[k]
             n_knots += 1
     return (OK, -1, t, t, nfev, njev, niter, n, n_knots, n_eval,
             T, Y, YP, YPP, YE, YPE, YPPE)
