@@ -91,7 +91,7 @@ ax.set_xlabel("$\\omega h$ (step times angular frequency)")
 ax.set_ylabel("relative period error $T_h / T - 1$")
 ax.set_title("Phase error of the spline stepper on $y'' = -\\omega^2 y$")
 ax.legend(fontsize=7)
-figures.save_figure(fig, "method-phase-error");
+figures.save_figure(fig, "method-phase-error")
 
 # %% [markdown]
 # The measured periods follow the closed form to rounding error, and the

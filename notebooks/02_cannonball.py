@@ -62,8 +62,8 @@ for ax, mu in zip(axes, MUS):
 axes[0].set_ylabel("$y$ (launch radius = 1)")
 axes[0].legend(loc="lower left")
 fig.suptitle("Newton's cannonball, $t \\in [0, 50]$, $\\Delta t = 0.01$")
+figures.save_data(pd.concat(rows), "cannonball-trajectories")
 figures.save_figure(fig, "cannonball-trajectories")
-figures.save_data(pd.concat(rows), "cannonball-trajectories");
 
 # %% [markdown]
 # At plotting scale the spline, RK4 and the exact orbit coincide for all
@@ -109,8 +109,8 @@ axes[0].text(1, 1.4e-3, "report's bound $10^{-3}$", fontsize=8, color="grey")
 handles, labels = axes[2].get_legend_handles_labels()
 fig.legend(handles, labels, loc="outside lower center", ncol=8, fontsize=7)
 fig.suptitle("Cannonball error histories, $\\Delta t = 0.01$: spline (solid) and RK4 (dashed)")
+figures.save_data(errors.iloc[::5], "cannonball-error-histories")
 figures.save_figure(fig, "cannonball-error-histories")
-figures.save_data(errors.iloc[::5], "cannonball-error-histories");
 
 # %% [markdown]
 # ### How large are the errors? (Section 5: "they do not exceed $10^{-3}$")

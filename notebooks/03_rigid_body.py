@@ -71,8 +71,8 @@ for ax in axes[0]:
 for ax in axes[1]:
     ax.set_xlabel("time $t$")
 fig.suptitle("Rigid body, $I = (3, 2, 1)$, $\\omega(0) = (1, 0.01, 0.01)$, $\\Delta t = 0.016$")
+figures.save_data(pd.concat(rows), "rigid-body-angular-velocity")
 figures.save_figure(fig, "rigid-body-angular-velocity")
-figures.save_data(pd.concat(rows), "rigid-body-angular-velocity");
 
 # %% [markdown]
 # The body spins about its axis of largest moment, a stable motion:

@@ -49,7 +49,7 @@ for (name, method), group in convergence.groupby(["problem", "method"], sort=Fal
     slopes.append(dict(problem=name, method=method, slope=slope, points=n))
     print(f"{name:<22} {method:>6}: fitted slope {slope:5.3f} over {n} steps")
 slopes = pd.DataFrame(slopes)
-figures.save_data(slopes, "convergence-slopes");
+figures.save_data(slopes, "convergence-slopes")
 
 # %% [markdown]
 # ## Figure 3
@@ -77,7 +77,7 @@ for ax, names in zip(axes, ([n for n in cases if n.startswith("cannonball")], ["
     ax.legend(fontsize=6.5, loc="lower right")
 axes[0].set_title("Newton's cannonball, $t \\in [0, 50]$")
 axes[1].set_title("Rigid body (consistent rates), $t \\in [0, 80]$")
-figures.save_figure(fig, "convergence");
+figures.save_figure(fig, "convergence")
 
 # %% [markdown]
 # Every spline slope is $2.00$ to three digits; the RK4 slopes lie between

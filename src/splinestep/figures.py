@@ -45,20 +45,27 @@ def setup():
 
 def save_figure(fig, name):
     """Write ``figures/<name>.pdf`` and ``.png`` with no dates or version
-    stamps, so the same environment regenerates identical bytes."""
+    stamps, so the same environment regenerates identical bytes; close the
+    figure and return the PNG for display (an IPython ``Image``, whose text
+    form has no address, so nbval compares it stably)."""
+    import matplotlib.pyplot as plt
     FIGURES.mkdir(parents=True, exist_ok=True)
     fig.savefig(FIGURES / f"{name}.pdf", metadata=_PDF_METADATA)
     fig.savefig(FIGURES / f"{name}.png", metadata=_PNG_METADATA)
-    return FIGURES / f"{name}.png"
+    plt.close(fig)
+    try:
+        from IPython.display import Image
+    except ImportError:  # pragma: no cover - outside Jupyter
+        return FIGURES / f"{name}.png"
+    return Image(filename=str(FIGURES / f"{name}.png"))
 
 
 def save_data(frame, name):
     """Write ``data/<name>.csv`` (a pandas DataFrame) with 12 significant
-    digits."""
+    digits.  Returns None, so a notebook cell ending with it shows nothing."""
     DATA.mkdir(parents=True, exist_ok=True)
-    path = DATA / f"{name}.csv"
-    frame.to_csv(path, index=False, float_format="%.12g", lineterminator="\n")
-    return path
+    frame.to_csv(DATA / f"{name}.csv", index=False, float_format="%.12g",
+                 lineterminator="\n")
 
 
 def read_data(name):

@@ -1,0 +1,77 @@
+"""The committed notebooks, data and figures are what the code produces:
+paired files agree, and a fresh run reproduces data/ to a relative 1e-9
+and figures/ to matplotlib's image comparison."""
+
+import os
+import sys
+from pathlib import Path
+
+import jupytext
+import numpy as np
+import pandas as pd
+import pytest
+from matplotlib.testing.compare import compare_images
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "scripts"))
+import reproduce  # noqa: E402
+
+SCRIPTS = reproduce.NOTEBOOKS
+COMMITTED_DATA = sorted((ROOT / "data").glob("*.csv"))
+COMMITTED_PNG = sorted((ROOT / "figures").glob("*.png"))
+
+
+def test_every_notebook_is_a_committed_pair():
+    assert len(SCRIPTS) >= 5
+    for script in SCRIPTS:
+        assert script.with_suffix(".ipynb").exists(), f"{script.name} has no .ipynb"
+
+
+@pytest.mark.parametrize("script", SCRIPTS, ids=lambda p: p.stem)
+def test_pair_has_the_same_cells(script):
+    """Compare the cells themselves, not file dates (arbitrary in a clone)."""
+    text = jupytext.read(script)
+    executed = jupytext.read(script.with_suffix(".ipynb"))
+    assert [(c.cell_type, c.source.strip()) for c in text.cells] == \
+           [(c.cell_type, c.source.strip()) for c in executed.cells]
+    code_cells = [c for c in executed.cells if c.cell_type == "code"]
+    assert all(c.execution_count is not None for c in code_cells), "stored notebook not executed"
+
+
+@pytest.fixture(scope="session")
+def fresh():
+    """The outputs of a fresh run: those nbval just wrote, or a new run."""
+    out = Path(os.environ["SPLINESTEP_OUTPUT"])
+    expected = [out / "data" / p.name for p in COMMITTED_DATA] + \
+               [out / "figures" / p.name for p in COMMITTED_PNG]
+    if not all(p.exists() for p in expected):
+        for script in SCRIPTS:
+            reproduce.execute(script, output_root=out)
+    return out
+
+
+def test_outputs_exist():
+    assert len(COMMITTED_DATA) >= 10 and len(COMMITTED_PNG) >= 7
+    names = {p.stem for p in COMMITTED_PNG}
+    for figure in ("cannonball-trajectories", "cannonball-error-histories",
+                   "rigid-body-angular-velocity", "rigid-body-energy-error", "convergence"):
+        assert figure in names
+        assert (ROOT / "figures" / f"{figure}.pdf").exists()
+
+
+@pytest.mark.parametrize("committed", COMMITTED_DATA, ids=lambda p: p.stem)
+def test_data_reproduces(fresh, committed):
+    old = pd.read_csv(committed)
+    new = pd.read_csv(fresh / "data" / committed.name)
+    assert list(old.columns) == list(new.columns) and old.shape == new.shape
+    for column in old.columns:
+        if pd.api.types.is_numeric_dtype(old[column]):
+            np.testing.assert_allclose(new[column], old[column], rtol=1e-9, atol=0,
+                                       err_msg=f"{committed.name}: {column}")
+        else:
+            assert (old[column] == new[column]).all(), f"{committed.name}: {column}"
+
+
+@pytest.mark.parametrize("committed", COMMITTED_PNG, ids=lambda p: p.stem)
+def test_figures_reproduce(fresh, committed):
+    assert compare_images(str(committed), str(fresh / "figures" / committed.name), tol=2) is None
