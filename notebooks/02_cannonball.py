@@ -126,7 +126,7 @@ for row in summary.itertuples():
 # %% [markdown]
 # The energy and angular-momentum errors of the spline stay below
 # $10^{-5}$; its position error is a different matter: on the ellipse it
-# exceeds $10^{-3}$ after about one orbit, because a second-order phase
+# exceeds $10^{-3}$ from $t \approx 28$ on, because a second-order phase
 # error accumulates along the orbit.  RK4 at the same step is $10^3$ to
 # $10^6$ times more accurate on every measure.
 #
