@@ -33,9 +33,8 @@ CASES = [
 
 @pytest.mark.parametrize("problem, kwargs", CASES)
 def test_spline_compiled_equals_plain(problem, kwargs):
-    kwargs.setdefault("jac", problem.jac)
+    kwargs = {"jac": problem.jac, **kwargs}
     t_span = (problem.t_span[0], min(problem.t_span[1], 10.0))
-    kwargs = dict(kwargs)
     if "t_eval" in kwargs:
         t_span = problem.t_span
     compiled = splinestep.solve(problem.fun, t_span, problem.y0, problem.yp0, problem.h,

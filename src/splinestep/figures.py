@@ -12,7 +12,6 @@ import os
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-NOTEBOOKS = ROOT / "notebooks"
 _OUTPUT = os.environ.get("SPLINESTEP_OUTPUT")
 OUTPUT = Path(_OUTPUT) if _OUTPUT else ROOT
 DATA = OUTPUT / "data"
