@@ -6,6 +6,7 @@ import sys
 
 import numpy as np
 import pytest
+from numba import njit
 
 import splinestep
 from splinestep import problems
@@ -82,3 +83,35 @@ def test_memory_does_not_grow_with_steps_when_t_eval_is_given():
                          text=True, check=True)
     growth_mb = float(out.stdout.strip().splitlines()[-1])
     assert growth_mb < 100
+
+
+@njit
+def oscillator_tuple(t, y, yp):
+    return (-y[0] - 0.1 * yp[0],)
+
+
+@njit
+def oscillator_array(t, y, yp):
+    return -y - 0.1 * yp
+
+
+@njit
+def two_components(t, y, yp):
+    return (1.0, 2.0)
+
+
+@pytest.mark.parametrize("solver", [splinestep.solve, splinestep.rk4])
+def test_tuple_and_array_right_hand_sides_agree(solver):
+    as_tuple = solver(oscillator_tuple, (0, 10), 1.0, 0.0, 0.01)
+    as_array = solver(oscillator_array, (0, 10), 1.0, 0.0, 0.01)
+    plain = solver(oscillator_tuple.py_func, (0, 10), 1.0, 0.0, 0.01)
+    assert_same(as_tuple, as_array)
+    assert_same(as_tuple, plain)
+
+
+@pytest.mark.parametrize("solver", [splinestep.solve, splinestep.rk4])
+@pytest.mark.parametrize("fun", [two_components, two_components.py_func],
+                         ids=["compiled", "python"])
+def test_tuple_of_wrong_length_is_a_failure(solver, fun):
+    res = solver(fun, (0, 1), 1.0, 0.0, 0.1)
+    assert res.status == -1 and "wrong shape" in res.message and res.t.size == 0

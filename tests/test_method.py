@@ -11,6 +11,8 @@ from splinestep import problems
 def newmark(fun, args, t0, y0, yp0, h, n, beta, gamma):
     """Newmark's method, written independently: solve each step's implicit
     equation for the new acceleration with scipy's fsolve."""
+    rhs = fun
+    fun = lambda *a: np.asarray(rhs(*a))
     y, yp = np.array(y0, float), np.array(yp0, float)
     a = fun(t0, y, yp, *args)
     ys = [y]

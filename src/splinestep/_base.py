@@ -5,7 +5,9 @@ of the result object."""
 import numbers
 
 import numpy as np
+from numba.core import types
 from numba.core.registry import CPUDispatcher
+from numba.extending import overload
 
 from .result import OdeResult
 
@@ -24,6 +26,37 @@ _FAILURES = {
                "(expected shape ({m},))",
     SINGULAR: "the Newton matrix is singular or its solution is not finite",
 }
+
+
+def as_vector(g):
+    """The value of ``fun`` as something indexable by component.
+
+    Plain Python: an array (lists, tuples and scalars are converted, so a
+    wrong shape is reported, not raised).  Compiled: the value itself, so a
+    compiled ``fun`` may return a tuple of floats and spare the allocation of
+    an array per evaluation."""
+    return np.asarray(g, dtype=np.float64)
+
+
+@overload(as_vector)
+def _as_vector_compiled(g):
+    return lambda g: g
+
+
+def wrong_length(g, m):
+    """True unless ``g`` (from :func:`as_vector`) holds exactly m components."""
+    return g.ndim != 1 or g.shape[0] != m
+
+
+@overload(wrong_length)
+def _wrong_length_compiled(g, m):
+    if isinstance(g, types.Array):
+        if g.ndim != 1:
+            return lambda g, m: True
+        return lambda g, m: g.shape[0] != m
+    if isinstance(g, types.UniTuple):
+        return lambda g, m: len(g) != m
+    return None  # anything else is a numba typing error naming the type
 
 
 def check_state(y0, yp0):

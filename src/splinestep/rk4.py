@@ -5,7 +5,7 @@ import numpy as np
 from numba import njit
 
 from . import _base
-from ._base import BAD_SHAPE, NON_FINITE, OK
+from ._base import BAD_SHAPE, NON_FINITE, OK, as_vector, wrong_length
 
 # Butcher tableau of the classical method: stage j (j = 2, 3, 4) is taken
 # at t + NODES[j-2] h from the state advanced by the previous stage; the
@@ -50,9 +50,9 @@ def _rk4_loop(fun, args, t0, h, n, tf, y0, yp0, t_eval, store_knots):
     nfev = 0
     n_eval = 0
 
-    g = np.asarray(fun(t0, y, yp, *args))
+    g = as_vector(fun(t0, y, yp, *args))
     nfev += 1
-    if g.ndim != 1 or g.shape[0] != m:
+    if wrong_length(g, m):
         return (BAD_SHAPE, 0, t0, t0, nfev, 0, 0, 0, 0, 0, T, Y, YP, YPP, YE, YPE, YPPE)
     for k in range(m):
         ypp[k] = g[k]
@@ -88,15 +88,15 @@ def _rk4_loop(fun, args, t0, h, n, tf, y0, yp0, t_eval, store_knots):
                 for k in range(m):
                     y_stage[k] = y[k] + c * v[k]
                     v[k] = yp[k] + c * a[k]
-                g = np.asarray(fun(t + c, y_stage, v, *args))
+                g = as_vector(fun(t + c, y_stage, v, *args))
             else:
                 # y'' at the new knot: the first stage of the next step.
                 for k in range(m):
                     y_new[k] = y[k] + dt * sum_v[k]
                     yp_new[k] = yp[k] + dt * sum_a[k]
-                g = np.asarray(fun(t_new, y_new, yp_new, *args))
+                g = as_vector(fun(t_new, y_new, yp_new, *args))
             nfev += 1
-            if g.ndim != 1 or g.shape[0] != m:
+            if wrong_length(g, m):
                 status = BAD_SHAPE
                 break
             for k in range(m):

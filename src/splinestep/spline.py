@@ -22,7 +22,8 @@ import numpy as np
 from numba import njit
 
 from . import _base
-from ._base import BAD_SHAPE, NON_FINITE, NOT_CONVERGED, OK, SINGULAR
+from ._base import (BAD_SHAPE, NON_FINITE, NOT_CONVERGED, OK, SINGULAR, as_vector,
+                    wrong_length)
 from .result import SplineSolution
 
 # The two coefficients of the unknown z in eqs. 6-7, as multiples of h^2 and h.
@@ -102,9 +103,9 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval,
     niter = 0
     n_eval = 0
 
-    g = np.asarray(fun(t0, y, yp, *args))
+    g = as_vector(fun(t0, y, yp, *args))
     nfev += 1
-    if g.ndim != 1 or g.shape[0] != m:
+    if wrong_length(g, m):
         return (BAD_SHAPE, 0, t0, t0, nfev, njev, niter, 0, 0, 0,
                 T, Y, YP, YPP, YE, YPE, YPPE)
     ypp = np.empty(m)        # 2 c_i
@@ -149,9 +150,9 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval,
                 y_new[k] = base_y[k] + wy * z[k]
                 yp_new[k] = base_yp[k] + wyp * z[k]
                 size = max(size, abs(y_new[k]), abs(yp_new[k]))
-            g = np.asarray(fun(t_new, y_new, yp_new, *args))
+            g = as_vector(fun(t_new, y_new, yp_new, *args))
             nfev += 1
-            if g.ndim != 1 or g.shape[0] != m:
+            if wrong_length(g, m):
                 status = BAD_SHAPE
                 break
             if mode == FIXED_POINT:
@@ -180,7 +181,7 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval,
                         for j in range(m):
                             y_new[j] = base_y[j] + wy * z[j]
                             yp_new[j] = base_yp[j] + wyp * z[j]
-                        gk = np.asarray(fun(t_new, y_new, yp_new, *args))
+                        gk = as_vector(fun(t_new, y_new, yp_new, *args))
                         z[k] = saved
                         for j in range(m):
                             dgdz[j, k] = (gk[j] - g[j]) / step
@@ -189,7 +190,10 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval,
                     fy, fyp = jac(t_new, y_new, yp_new, *args)
                     njev += 1
                     dgdz = wy * np.asarray(fy) + wyp * np.asarray(fyp)
-                dz = _lu_solve(np.eye(m) - dgdz, g - z)
+                residual = np.empty(m)
+                for k in range(m):
+                    residual[k] = g[k] - z[k]
+                dz = _lu_solve(np.eye(m) - dgdz, residual)
                 change = 0.0
                 for k in range(m):
                     if not abs(dz[k]) < np.inf:
@@ -246,7 +250,9 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(),
     fun : callable
         ``fun(t, y, yp, *args) -> y''``, with y, yp and the result arrays of
         shape (m,).  When ``fun`` is a ``numba.njit`` function, the whole
-        stepping loop runs compiled.
+        stepping loop runs compiled; a compiled ``fun`` may also return a
+        tuple of m floats, which spares an array allocation per evaluation
+        (about half the cost of a small right-hand side).
     t_span : (float, float)
         Interval of integration (t0, tf), t0 < tf.
     y0, yp0 : float or array_like, shape (m,)

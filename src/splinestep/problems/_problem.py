@@ -19,8 +19,9 @@ class Problem:
     ----------
     name : str
     fun : callable
-        ``numba.njit`` right-hand side ``fun(t, y, yp, *args)``; its plain
-        Python source is ``fun.py_func``.
+        ``numba.njit`` right-hand side ``fun(t, y, yp, *args)``, returning
+        y'' as a tuple of floats or an array; its plain Python source is
+        ``fun.py_func``.
     args : tuple
         Parameters passed to ``fun`` and ``jac``.
     y0, yp0 : ndarray, shape (m,)

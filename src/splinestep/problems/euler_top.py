@@ -28,18 +28,15 @@ STEP = 0.016
 
 @njit(cache=True)
 def rigid_body_rhs(t, w, wp, i1, i2, i3, beta):
-    """w'' = alpha(w) w - beta w' with alpha_i from eqs. 16-18."""
+    """w'' = alpha(w) w - beta w' with alpha_i from eqs. 16-18, as a tuple
+    (no array allocated per evaluation)."""
     a1 = (w[2] ** 2 * (i2 - i3) * (i3 - i1) / (i1 * i2)
           + w[1] ** 2 * (i2 - i3) * (i1 - i2) / (i1 * i3))
     a2 = (w[0] ** 2 * (i3 - i1) * (i1 - i2) / (i2 * i3)
           + w[2] ** 2 * (i2 - i3) * (i3 - i1) / (i2 * i1))
     a3 = (w[1] ** 2 * (i1 - i2) * (i2 - i3) / (i3 * i1)
           + w[0] ** 2 * (i1 - i2) * (i3 - i1) / (i3 * i2))
-    out = np.empty(3)
-    out[0] = a1 * w[0] - beta * wp[0]
-    out[1] = a2 * w[1] - beta * wp[1]
-    out[2] = a3 * w[2] - beta * wp[2]
-    return out
+    return (a1 * w[0] - beta * wp[0], a2 * w[1] - beta * wp[1], a3 * w[2] - beta * wp[2])
 
 
 def euler_rates(w, moments=MOMENTS):

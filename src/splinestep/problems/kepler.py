@@ -27,13 +27,11 @@ STEP = 0.01
 
 @njit(cache=True)
 def kepler_rhs(t, y, yp, mu):
-    """x'' = -mu x / |x|^3 (eqs. 10-12: omega^2 = mu / r^3)."""
+    """x'' = -mu x / |x|^3 (eqs. 10-12: omega^2 = mu / r^3), as a tuple
+    (no array allocated per evaluation)."""
     r2 = y[0] * y[0] + y[1] * y[1]
     w2 = mu / (r2 * np.sqrt(r2))
-    out = np.empty(2)
-    out[0] = -w2 * y[0]
-    out[1] = -w2 * y[1]
-    return out
+    return (-w2 * y[0], -w2 * y[1])
 
 
 @njit(cache=True)
