@@ -2,7 +2,8 @@
 #   make reproduce   build .venv from environment.txt, run all notebooks, write data/ and figures/
 #   make test        build .venv, run pytest (package tests and nbval on every notebook)
 #   make bench       speed benchmark (compiled, plain Python, scipy, C)
-#   make lab         JupyterLab with the .py <-> .ipynb pairing active
+#   make lab         JupyterLab at the repository root, .py <-> .ipynb pairs active
+#   make test-emulated   the tests with numpy's newer CPU kernels switched off, as on another CPU
 
 PYTHON ?= python3
 VENV := .venv
@@ -13,7 +14,11 @@ export MPLBACKEND := Agg
 export PYTHONHASHSEED := 0
 export SOURCE_DATE_EPOCH := 0
 
-.PHONY: reproduce test bench lab env clean
+# numpy's runtime-dispatched kernels beyond the baseline, switched off to see
+# what another CPU's rounding does (names not present on a CPU are ignored).
+EMULATED_CPU := NPY_DISABLE_CPU_FEATURES="AVX512_ICL AVX512_SPR X86_V4 X86_V3" NUMBA_CPU_NAME=generic
+
+.PHONY: reproduce test test-emulated bench lab env clean
 
 env: $(STAMP)
 
@@ -32,11 +37,14 @@ reproduce: $(STAMP)
 test: $(STAMP)
 	$(BIN)/python -m pytest
 
+test-emulated: $(STAMP)
+	$(EMULATED_CPU) $(BIN)/python -m pytest
+
 bench: $(STAMP)
 	$(BIN)/python benchmarks/speed.py
 
 lab: $(STAMP)
-	$(BIN)/jupyter lab notebooks/
+	$(BIN)/python scripts/lab.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache

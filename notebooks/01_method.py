@@ -14,9 +14,9 @@
 #   d_i = \frac{z - y''_i}{6h},$$
 #
 # which is **Newmark's method with $\beta = 1/6$, $\gamma = 1/2$** (the
-# "linear acceleration method" of structural dynamics, 1959): the spline
-# time stepper is a known method.  The test suite checks the equality to
-# $10^{-12}$ against an independent Newmark code.
+# "linear acceleration method" of structural dynamics, Newmark 1959): the
+# spline time stepper is a known method.  The test suite checks the
+# equality against an independent Newmark code.
 #
 # ## One step by hand, on $y'' = -y$
 # The report starts the iteration from $d_i = 0$ ($z = y''_i$, a quadratic
@@ -27,84 +27,132 @@
 import numpy as np
 import pandas as pd
 
+import outputs
 import splinestep
-from splinestep import figures, problems
+from splinestep import diagnostics, problems
 
-plt = figures.setup()
+plt = outputs.setup()
 h = 0.5
 exact_step = splinestep.solve(lambda t, y, yp: -y, (0, h), 1.0, 0.0, h, tol=1e-15)
+changes = []
 for k in range(1, 6):
     res = splinestep.solve(lambda t, y, yp: -y, (0, h), 1.0, 0.0, h, iterations=k)
     d = (res.ypp[0, 1] - res.ypp[0, 0]) / (6 * h)
+    changes.append(abs(res.y[0, 1] - exact_step.y[0, 1]))
     print(f"{k} sweep(s): d_0 = {d:+.12f}, a_1 = {res.y[0, 1]:.12f}, "
-          f"change from converged {abs(res.y[0, 1] - exact_step.y[0, 1]):.1e}")
+          f"distance from the converged a_1 {changes[-1]:.1e}")
 print(f"converged  : a_1 = {exact_step.y[0, 1]:.12f}; exact cos(0.5) = {np.cos(h):.12f}")
+factor = h * h / 6  # |d z_new / d z| = (h omega)^2 / 6 on y'' = -omega^2 y, omega = 1
+outputs.say(
+    f"Each sweep multiplies the error of $z$ by "
+    f"$\\partial z_{{\\rm new}}/\\partial z = -(h\\omega)^2/6 = -{factor:.4f}$ here: "
+    f"the distances above shrink by a factor of about "
+    f"{np.exp(np.mean(np.log(np.array(changes[:-1]) / np.array(changes[1:])))):.0f} "
+    f"per sweep, against $6/(h\\omega)^2 = {1 / factor:.0f}$.")
 
 # %% [markdown]
-# Each sweep shrinks the error of $z$ by the factor
-# $\partial z_{\rm new}/\partial z = \tfrac{h^2}{6}\,\partial F/\partial y + \tfrac h2\,\partial F/\partial y'$,
-# here $-(h\omega)^2/6 = -0.0417$: the printed changes fall by about 24 per
-# sweep.  So the sweep converges only while $(h\omega)^2/6 < 1$, i.e.
-# $h\omega < \sqrt 6 \approx 2.45$, although the method itself is stable up
-# to $h\omega < \sqrt{12} \approx 3.46$ (below).  Newton's method (the
-# report's own suggestion, `iteration="newton"`) removes that limit and is
-# exact in one iteration on linear problems.
+# In general one sweep multiplies the error of $z$ by the matrix
+# $\tfrac{h^2}{6}\,\partial F/\partial y + \tfrac h2\,\partial F/\partial y'$.
+# The sweep converges only while this contraction is below 1: on
+# $y'' = -\omega^2 y$ while $(h\omega)^2/6 < 1$, i.e. $h\omega < \sqrt 6$,
+# although the method itself is stable up to $h\omega < \sqrt{12}$ (below).
+# Newton's method on each step's equation (`iteration="newton"`, an option
+# of this package) removes that limit.  It is not what the report suggests:
+# the report's Sec. 5 proposes to obtain "the coefficients at all points in a
+# single sweep" with Newton's method and an LU decomposition, one solve over
+# all knots at once.
 #
 # ## Stability and phase error on $y'' = -\omega^2 y$
-# For the oscillator, the step maps $(y_i, y'_i)$ linearly; its eigenvalues
-# $e^{\pm i\Omega h}$ satisfy
+# For the oscillator, one step maps $(y_i, y'_i)$ by a fixed matrix whose
+# eigenvalues $\rho\, e^{\pm i\Omega h}$ satisfy
 #
-# $$\cos\Omega h = 1 - \frac{x^2}{2 + x^2/3}, \qquad x = \omega h,$$
+# $$\rho = 1, \qquad \cos\Omega h = 1 - \frac{x^2}{2 + x^2/3}, \qquad x = \omega h,$$
 #
-# so $|e^{\pm i \Omega h}| = 1$ (no numerical damping, the amplitude is
-# kept) for $x \le \sqrt{12}$ and one eigenvalue exceeds 1 beyond.  The
-# numerical period is longer than the true one:
-# $T_h / T - 1 = x^2/24 + O(x^4)$.  We measure the period of the spline
-# solution and compare.
+# for $x \le \sqrt{12}$; beyond, the eigenvalues are real and one exceeds 1.
+# So below the limit the method neither damps nor amplifies, and its
+# period is longer than the true one: $T_h / T - 1 = x^2/24 + O(x^4)$.
+# RK4 on the same problem has $\rho = |R(ix)| = \sqrt{1 - x^6/72 + x^8/576}$:
+# it damps for $x < 2\sqrt 2$ and amplifies beyond.
+#
+# We measure $\rho$ and $\Omega h$ from the computed samples alone: they
+# satisfy $y_{n+1} = 2\rho\cos(\Omega h)\, y_n - \rho^2 y_{n-1}$, and a
+# least-squares fit of the two coefficients over 400 steps gives both
+# (`splinestep.diagnostics.recurrence_fit`).  The same fit applied to RK4
+# shows that the metric sees damping and growth where they exist.
 
 # %%
 rows = []
 for x in np.linspace(0.05, 3.4, 40):
     problem = problems.harmonic(omega=1.0, t_span=(0.0, 400 * x), h=x)
-    res = problem.solve(iteration="newton")
-    # Rotation per step from two successive steps: y_{n+1} + y_{n-1} = 2 cos(Omega h) y_n.
-    y = res.y[0]
-    cos_measured = np.sum((y[2:] + y[:-2]) * y[1:-1]) / (2 * np.sum(y[1:-1] ** 2))
-    cos_theory = 1 - x * x / (2 + x * x / 3)
-    rows.append(dict(omega_h=x, period_ratio_measured=x / np.arccos(cos_measured),
-                     period_ratio_theory=x / np.arccos(cos_theory),
-                     amplitude_growth=np.max(np.abs(y)) / np.max(np.abs(y[: y.size // 10]))))
+    rho_spline, theta_spline = diagnostics.recurrence_fit(problem.solve(iteration="newton").y[0])
+    rho_rk4, _ = diagnostics.recurrence_fit(problem.solve("rk4").y[0])
+    rows.append(dict(omega_h=x, period_ratio_measured=x / theta_spline,
+                     period_ratio_theory=x / np.arccos(1 - x * x / (2 + x * x / 3)),
+                     amplitude_factor_spline=rho_spline, amplitude_factor_rk4=rho_rk4,
+                     amplitude_factor_rk4_theory=np.sqrt(1 - x ** 6 / 72 + x ** 8 / 576)))
 phase = pd.DataFrame(rows)
-figures.save_data(phase, "method-phase-error")
-print(f"largest |measured - theory| of the period ratio: "
-      f"{np.max(np.abs(phase.period_ratio_measured - phase.period_ratio_theory)):.1e}")
-print(f"largest amplitude growth over 400 steps for omega h <= 3.4: {phase.amplitude_growth.max():.6f}")
+outputs.save_data(phase, "method-phase-error")
+period_deviation = np.max(np.abs(phase.period_ratio_measured / phase.period_ratio_theory - 1))
+spline_deviation = np.max(np.abs(phase.amplitude_factor_spline - 1))
+rk4_deviation = np.max(np.abs(phase.amplitude_factor_rk4 / phase.amplitude_factor_rk4_theory - 1))
+print(f"measured period ratio / closed form - 1, largest: below 1e-12: {period_deviation < 1e-12}")
+print(f"spline amplitude factor - 1, largest: below 1e-12: {spline_deviation < 1e-12}")
+print(f"RK4 amplitude factor / |R(ix)| - 1, largest: below 1e-10: {rk4_deviation < 1e-10}")
+print(f"RK4 amplitude factor from {phase.amplitude_factor_rk4.min():.4f} "
+      f"to {phase.amplitude_factor_rk4.max():.4f}")
 
-fig, ax = plt.subplots(figsize=(6.5, 4.2))
-ax.loglog(phase.omega_h, phase.period_ratio_measured - 1, "o", markersize=4,
-          label="measured, cubic-spline stepper")
-ax.loglog(phase.omega_h, phase.period_ratio_theory - 1, "-", label="closed form (Newmark $\\beta$=1/6)")
+fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 6.6), sharex=True)
+ax.loglog(phase.omega_h, phase.period_ratio_measured - 1, "o", markersize=5,
+          label="measured, cubic spline")
+ax.loglog(phase.omega_h, phase.period_ratio_theory - 1, "-", label="closed form ($\\beta = 1/6$)")
 ax.loglog(phase.omega_h, phase.omega_h ** 2 / 24, "--", label="leading term $(\\omega h)^2/24$")
-ax.axvline(np.sqrt(6), color="grey", linestyle=":", label="fixed-point limit $\\sqrt{6}$")
-ax.axvline(np.sqrt(12), color="k", linestyle=":", label="stability limit $\\sqrt{12}$")
-ax.set_xlabel("$\\omega h$ (step times angular frequency)")
-ax.set_ylabel("relative period error $T_h / T - 1$")
-ax.set_title("Phase error of the spline stepper on $y'' = -\\omega^2 y$")
-ax.legend(fontsize=7)
-figures.save_figure(fig, "method-phase-error")
+ax.set_ylabel("period error $T_h / T - 1$")
+ax.set_title("Cubic spline on $y'' = -\\omega^2 y$: period and amplitude per step")
+bx.semilogx(phase.omega_h, phase.amplitude_factor_spline, "o", markersize=5, color="C0",
+            label="cubic spline, measured")
+bx.semilogx(phase.omega_h, phase.amplitude_factor_rk4, "s", markersize=5, color="C3",
+            label="RK4, measured")
+bx.semilogx(phase.omega_h, phase.amplitude_factor_rk4_theory, "-", color="C3", linewidth=1,
+            label="RK4, $|R(i\\omega h)|$")
+bx.set_ylim(0.4, 1.6)
+bx.set_ylabel("amplitude factor per step $\\rho$")
+bx.set_xlabel("$\\omega h$ (step times angular frequency)")
+for axis in (ax, bx):
+    axis.axvline(np.sqrt(6), color="grey", linestyle=":", linewidth=1.5)
+    axis.axvline(np.sqrt(12), color="k", linestyle=":", linewidth=1.5)
+ax.text(np.sqrt(6) * 0.97, 2e-4, "fixed-point\nsweep limit $\\sqrt{6}$", ha="right", fontsize=10)
+ax.text(np.sqrt(12) * 0.97, 2e-2, "stability\nlimit $\\sqrt{12}$", ha="right", fontsize=10)
+ax.legend(loc="upper left")
+bx.legend(loc="lower left")
+outputs.save_figure(fig, "method-phase-error")
 
 # %% [markdown]
-# The measured periods follow the closed form to rounding error, and the
-# amplitude does not grow or decay below the stability limit.  This
-# explains the report's results:
+# The measured periods follow the closed form to rounding error, the
+# spline's amplitude factor is 1 up to the stability limit, and the same
+# metric finds RK4's damping (below $2\sqrt2 \approx 2.83$) and growth
+# (above) where its closed form puts them.  This explains what the report
+# found:
 #
 # * **second order** (Fig. 3): the local error of the linear-acceleration
-#   method is $O(h^4)$ in $y$, $O(h^3)$ in $y'$, so the global error is $O(h^2)$;
-# * **an error that follows the orbit** (Sec. 5): the method does not
-#   damp, and it is symplectic for a modified symplectic form (Kane,
-#   Marsden, Ortiz & West, Int. J. Numer. Meth. Eng. 49, 2000): energy errors
-#   oscillate with the orbit instead of drifting, while the phase error
-#   $x^2/24$ per unit time grows linearly, so the position error grows;
-# * **one sweep is enough for the order**: after one sweep the remaining
-#   error of $z$ is $O(h^2)\cdot O(h)$, which changes $a_{i+1}$ by $O(h^5)$ and
-#   $b_{i+1}$ by $O(h^4)$; "a few times" only changes the constant.
+#   method is $h^4 y''''/24 + O(h^5)$ in $y$ and $-h^3 y''''/12 + O(h^4)$ in
+#   $y'$, so the global error is $O(h^2)$;
+# * **a bounded energy error on the cannonball**: for a conservative force,
+#   $y'' = -\nabla V(y)$, Newmark's method with $\gamma = 1/2$ is symplectic
+#   for a modified symplectic form (Kane, Marsden, Ortiz & West 2000), so
+#   the energy error stays bounded and oscillates with the orbit
+#   (`02_cannonball`), while the phase error, $x^2/24$ per period, grows
+#   linearly, and so does the position error.  The report's rigid body in
+#   its second-order form is not of that form, and there the energy error
+#   does grow (`03_rigid_body`): the bounded error is a property of the
+#   method on conservative problems, not on every problem;
+# * **one sweep is enough for the order**: the initial guess $z = y''_i$ is
+#   wrong by $O(h)$.  When $F$ does not depend on $y'$, one sweep multiplies
+#   that by $\tfrac{h^2}{6} \partial F/\partial y = O(h^2)$, leaving $O(h^3)$,
+#   which changes $a_{i+1}$ by $O(h^5)$ and $b_{i+1}$ by $O(h^4)$, below the
+#   local errors.  With damping ($\partial F/\partial y' \ne 0$) the factor
+#   is $\tfrac h2 \partial F/\partial y' = O(h)$: one sweep leaves $O(h^2)$,
+#   changing $a_{i+1}$ by $O(h^4)$ and $b_{i+1}$ by $O(h^3)$, the same
+#   orders as the local errors themselves.  Only the error constant
+#   changes, so one sweep keeps order 2 in both cases (the fixed-sweep
+#   method is an explicit predictor-corrector of order 2); "a few times"
+#   only changes the constant.

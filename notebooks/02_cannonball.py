@@ -12,15 +12,17 @@
 # The invariants are $H = \tfrac12|\dot{\mathbf x}|^2 - \mu/|\mathbf x|$
 # (eq. 13 as printed omits $\mu$) and $M = x\dot y - y\dot x$ (eq. 14).
 # The reference is the exact solution (universal-variable Kepler equation,
-# checked against the classical Kepler, Barker and hyperbolic equations to 1e-12).
+# checked in the tests against the classical Kepler, Barker and hyperbolic
+# equations).
 
 # %%
 import numpy as np
 import pandas as pd
 
-from splinestep import figures, problems
+import outputs
+from splinestep import problems
 
-plt = figures.setup()
+plt = outputs.setup()
 MUS = problems.CANNONBALL_MU
 runs = {}
 for mu in MUS:
@@ -28,30 +30,34 @@ for mu in MUS:
     runs[mu] = {m: problem.solve(m) for m in ("spline", "rk4")}
     for method, res in runs[mu].items():
         assert res.success, res.message
-    print(f"mu = {mu:.1f} ({problems.ORBIT_TYPES[mu]:>10}): {runs[mu]['spline'].nstep} steps, "
+    elements = problems.orbit_elements(mu)
+    print(f"mu = {mu:.1f} ({problems.ORBIT_TYPES[mu]:>10}): energy {elements['energy']:+.2f}, "
+          f"eccentricity {elements['eccentricity']:.3f}; {runs[mu]['spline'].nstep} steps, "
           f"spline {runs[mu]['spline'].nfev / runs[mu]['spline'].nstep:.2f} "
           f"evaluations per step, RK4 {runs[mu]['rk4'].nfev / runs[mu]['rk4'].nstep:.2f}")
+per_step = np.array([runs[mu]["spline"].nfev / runs[mu]["spline"].nstep for mu in MUS])
+outputs.say(
+    f"The spline stepper iterates each step until the change is below $10^{{-12}}$ of "
+    f"the state (the default `tol`).  At $\\Delta t = 0.01$ that takes "
+    f"{per_step.min():.2f} to {per_step.max():.2f} evaluations per step (one to start "
+    f"the sweep's test, then one per sweep), {per_step.min() / 4:.0%} to "
+    f"{per_step.max() / 4:.0%} of RK4's four.")
 
 # %% [markdown]
-# The spline stepper iterates each step to a change below $10^{-12}$ of the
-# state; about two sweeps per step suffice at $\Delta t = 0.01$, so it costs
-# half the right-hand-side evaluations of RK4 at the same step.
-#
 # ## Figure 1a: the four trajectories
 
 # %%
 rows = []
-fig, axes = plt.subplots(1, 4, figsize=(13, 3.6))
-for ax, mu in zip(axes, MUS):
+fig, axes = plt.subplots(2, 2, figsize=(outputs.WIDTH, 6.8))
+for ax, mu in zip(axes.flat, MUS):
     problem = problems.cannonball(mu)
     t = runs[mu]["spline"].t
     exact, _ = problem.exact(t)
     for method, res in runs[mu].items():
-        ax.plot(res.y[0], res.y[1], **figures.METHOD_STYLE[method])
-    ax.plot(exact[0], exact[1], **figures.METHOD_STYLE["reference"])
-    ax.plot(0, 0, "k*", markersize=8, label="centre of attraction")
+        ax.plot(res.y[0], res.y[1], **outputs.METHOD_STYLE[method])
+    ax.plot(exact[0], exact[1], **outputs.METHOD_STYLE["reference"])
+    ax.plot(0, 0, "k*", markersize=9, label="centre of attraction")
     ax.set_title(f"$\\mu = {mu:g}$ ({problems.ORBIT_TYPES[mu]})")
-    ax.set_xlabel("$x$ (launch radius = 1)")
     ax.set_aspect("equal", adjustable="datalim")
     stride = slice(None, None, 10)
     rows.append(pd.DataFrame({
@@ -59,21 +65,26 @@ for ax, mu in zip(axes, MUS):
         "x_spline": runs[mu]["spline"].y[0, stride], "y_spline": runs[mu]["spline"].y[1, stride],
         "x_rk4": runs[mu]["rk4"].y[0, stride], "y_rk4": runs[mu]["rk4"].y[1, stride],
         "x_exact": exact[0, stride], "y_exact": exact[1, stride]}))
-axes[0].set_ylabel("$y$ (launch radius = 1)")
-axes[0].legend(loc="lower left")
+for ax in axes[1]:
+    ax.set_xlabel("$x$ (launch radius = 1)")
+for ax in axes[:, 0]:
+    ax.set_ylabel("$y$ (launch radius = 1)")
+handles, labels = axes[0, 0].get_legend_handles_labels()
+fig.legend(handles, labels, loc="outside lower center", ncol=4)
 fig.suptitle("Newton's cannonball, $t \\in [0, 50]$, $\\Delta t = 0.01$")
-figures.save_data(pd.concat(rows), "cannonball-trajectories")
-figures.save_figure(fig, "cannonball-trajectories")
+outputs.save_data(pd.concat(rows), "cannonball-trajectories")
+outputs.save_figure(fig, "cannonball-trajectories")
 
 # %% [markdown]
 # At plotting scale the spline, RK4 and the exact orbit coincide for all
-# four orbits: the claim of Fig. 1a holds.
+# four orbits: the claim of Fig. 1a holds (the errors are quantified below).
 #
 # ## Figure 2a: error histories
 #
 # Three errors, each against the exact flow: the energy error
 # $|H(t) - H(0)|$, the angular-momentum error $|M(t) - M(0)|$ and the
-# position error $|\mathbf x(t) - \mathbf x_{\rm exact}(t)|$.
+# position error $|\mathbf x(t) - \mathbf x_{\rm exact}(t)|$.  Colour is the
+# orbit, line style the method.
 
 # %%
 errors = []
@@ -91,81 +102,175 @@ for mu in MUS:
             "position_error": np.hypot(*(res.y - exact))}))
 errors = pd.concat(errors, ignore_index=True)
 
-fig, axes = plt.subplots(1, 3, figsize=(13, 4.4), sharex=True)
-columns = {"energy_error": "energy error $|H(t) - H(0)|$",
-           "momentum_error": "angular-momentum error $|M(t) - M(0)|$",
-           "position_error": "position error $|\\mathbf{x} - \\mathbf{x}_{exact}|$"}
+fig, axes = plt.subplots(3, 1, figsize=(outputs.WIDTH, 8.6), sharex=True)
+columns = {"energy_error": "energy error\n$|H(t) - H(0)|$",
+           "momentum_error": "angular-momentum error\n$|M(t) - M(0)|$",
+           "position_error": "position error\n$|\\mathbf{x} - \\mathbf{x}_{\\rm exact}|$"}
 for ax, (column, label) in zip(axes, columns.items()):
     for mu in MUS:
         for method in ("spline", "rk4"):
             sel = errors[(errors.mu == mu) & (errors.method == method)]
-            ax.semilogy(sel.t[1:], sel[column][1:], color=figures.MU_COLORS[mu],
-                        linestyle=figures.METHOD_STYLE[method]["linestyle"], linewidth=1,
-                        label=f"{figures.METHOD_STYLE[method]['label']}, $\\mu$ = {mu:g}")
-    ax.axhline(1e-3, color="grey", linewidth=0.8)
-    ax.set_xlabel("time $t$ (launch radius / launch speed)")
+            ax.semilogy(sel.t[1:], sel[column][1:], color=outputs.MU_COLORS[mu],
+                        linestyle=outputs.METHOD_STYLE[method]["linestyle"], linewidth=1.2)
+    ax.axhline(1e-3, color="k", linewidth=1.2, linestyle="-.")
     ax.set_ylabel(label)
-axes[0].text(1, 1.4e-3, "report's bound $10^{-3}$", fontsize=8, color="grey")
-handles, labels = axes[2].get_legend_handles_labels()
-fig.legend(handles, labels, loc="outside lower center", ncol=8, fontsize=7)
-fig.suptitle("Cannonball error histories, $\\Delta t = 0.01$: spline (solid) and RK4 (dashed)")
-figures.save_data(errors.iloc[::5], "cannonball-error-histories")
-figures.save_figure(fig, "cannonball-error-histories")
+    ax.set_ylim(1e-16, 1e-1)
+    ax.set_yticks(10.0 ** np.arange(-15, 0, 3))
+axes[-1].set_xlabel("time $t$ (launch radius / launch speed)")
+axes[0].text(50, 2e-3, "report's bound $10^{-3}$", ha="right", va="bottom", fontsize=10)
+from matplotlib.lines import Line2D  # noqa: E402
+legend = [Line2D([], [], color=outputs.MU_COLORS[mu], label=f"$\\mu = {mu:g}$") for mu in MUS] + \
+         [Line2D([], [], color="k", linestyle=outputs.METHOD_STYLE[m]["linestyle"],
+                 label=outputs.METHOD_STYLE[m]["label"]) for m in ("spline", "rk4")]
+fig.legend(handles=legend, loc="outside lower center", ncol=6, columnspacing=1.2,
+           handlelength=1.8)
+fig.suptitle("Cannonball error histories, $\\Delta t = 0.01$")
+outputs.save_data(errors.iloc[::5], "cannonball-error-histories")
+outputs.save_figure(fig, "cannonball-error-histories")
 
 # %% [markdown]
 # ### How large are the errors? (Section 5: "they do not exceed $10^{-3}$")
 
 # %%
 summary = errors.groupby(["mu", "method"])[list(columns)].max().reset_index()
-figures.save_data(summary, "cannonball-max-errors")
+summary["nstep"] = [runs[row.mu][row.method].nstep for row in summary.itertuples()]
+summary["nfev"] = [runs[row.mu][row.method].nfev for row in summary.itertuples()]
+outputs.save_data(summary, "cannonball-max-errors")
 for row in summary.itertuples():
     print(f"mu = {row.mu:.1f} {row.method:>6}: max energy error {row.energy_error:.2e}, "
           f"max momentum error {row.momentum_error:.2e}, "
           f"max position error {row.position_error:.2e}")
+spline = summary[summary.method == "spline"].set_index("mu")
+rk4 = summary[summary.method == "rk4"].set_index("mu")
+ratios = spline[list(columns)] / rk4[list(columns)]
+ellipse = errors[(errors.mu == 0.6) & (errors.method == "spline")]
+above = ellipse.t[ellipse.position_error > 1e-3]
+below_after = ellipse.t[(ellipse.t > above.min()) & (ellipse.position_error <= 1e-3)]
+print(f"ellipse, spline: position error first above 1e-3 at t = {above.min():.2f}, "
+      f"below it again after that at t = {below_after.max() if len(below_after) else np.nan:.2f}")
+lo, hi = ratios.stack().idxmin(), ratios.stack().idxmax()
+outputs.say(
+    f"The spline's energy and angular-momentum errors stay below "
+    f"{outputs.sci(max(spline.energy_error.max(), spline.momentum_error.max()), 1)} on all "
+    f"four orbits.  Its position error is a different matter: on the ellipse it first "
+    f"exceeds $10^{{-3}}$ at $t = {above.min():.2f}$ and reaches "
+    f"{outputs.sci(spline.position_error[0.6])}, because a second-order phase error "
+    f"accumulates along the orbit.  RK4 at the same step is more accurate on every "
+    f"measure and every orbit, by a factor from {ratios.min().min():.0f} "
+    f"($\\mu = {lo[0]:g}$, {lo[1].replace('_', ' ')}) to {outputs.sci(ratios.max().max(), 1)} "
+    f"($\\mu = {hi[0]:g}$, {hi[1].replace('_', ' ')}).")
 
 # %% [markdown]
-# The energy and angular-momentum errors of the spline stay below
-# $10^{-5}$; its position error is a different matter: on the ellipse it
-# exceeds $10^{-3}$ from $t \approx 28$ on, because a second-order phase
-# error accumulates along the orbit.  RK4 at the same step is $10^3$ to
-# $10^6$ times more accurate on every measure.
-#
-# ### Where along the orbit does the error grow? (Section 5)
+# ### Where along the orbit does the error change? (Section 5)
 # The report attributes the "unusual error corresponding with the
-# trajectory" to the regions of highest curvature.  On the ellipse
-# ($\mu = 0.6$, $a = 3$, $e = 2/3$, period $2\pi\sqrt{a^3/\mu} = 42.15$) the
-# curvature is highest at periapsis ($r = 1$, where the launch is) and
-# lowest at apoapsis ($r = 5$).  We split the total variation of the energy
-# error, and the growth of the position error, by distance from the centre.
+# trajectory" to the regions of highest curvature.  Two quantities vary
+# along an orbit: the curvature of the path,
+# $\kappa = |\dot{\mathbf x} \times \ddot{\mathbf x}| / |\dot{\mathbf x}|^3$,
+# and the derivatives of the acceleration, which set the step's local error
+# $h^4 \mathbf x''''/24$ (`01_method`).  On the ellipse ($\mu = 0.6$) we
+# compute both along the exact orbit, in closed form
+# (`problems.acceleration_derivatives`), beside the rate at which the
+# spline's energy error changes, over the first orbit.
 
 # %%
 res = runs[0.6]["spline"]
 problem = problems.cannonball(0.6)
-h_err = problem.invariants["energy"](res.y, res.yp) - (0.5 - 0.6)
-x_err = np.hypot(*(res.y - problem.exact(res.t)[0]))
-r = np.hypot(res.y[0], res.y[1])
-near = (r[1:] + r[:-1]) / 2 < 1.5
-dh = np.abs(np.diff(h_err))
-dx = np.abs(np.diff(x_err))
-where = pd.DataFrame({"quantity": ["time", "energy-error variation", "position-error growth"],
-                      "fraction_near_periapsis_r_lt_1.5": [near.mean(), dh[near].sum() / dh.sum(),
-                                                           dx[near].sum() / dx.sum()]})
-figures.save_data(where, "cannonball-error-location")
-for row in where.itertuples():
-    print(f"share of {row.quantity:<24} spent at r < 1.5: {row[2]:6.1%}")
-print(f"energy error: {abs(h_err[np.argmin(np.abs(res.t - 21.08))]):.2e} at apoapsis (t = 21.08), "
-      f"{abs(h_err[np.argmin(np.abs(res.t - 42.15))]):.2e} back at periapsis (t = 42.15)")
+elements = problems.orbit_elements(0.6)
+period = elements["period"]
+x_exact, v_exact = problem.exact(res.t)
+acceleration, _, fourth = problems.acceleration_derivatives(x_exact, v_exact, 0.6)
+curvature = problems.path_curvature(v_exact, acceleration)
+x4 = np.hypot(*fourth)
+r = np.hypot(*x_exact)
+energy_error = problem.invariants["energy"](res.y, res.yp) - elements["energy"]
+rate = np.abs(np.diff(energy_error)) / np.diff(res.t)  # per unit time, on each step
+middle = 0.5 * (res.t[1:] + res.t[:-1])
+first = middle < period
+one = res.t <= period
+apoapsis = np.argmin(np.abs(res.t - period / 2))
+r_mid = 0.5 * (r[1:] + r[:-1])
+near = r_mid < 1.5
+x_err = np.hypot(*(res.y - x_exact))
+peak = np.argmax(x_err)
+# The arc around periapsis (r < 1.5) against the arc around apoapsis (r > 4.5)
+# over the first orbit: the largest value of each quantity in each arc.
+peri_arc, apo_arc = first & (r_mid < 1.5), first & (r_mid > 4.5)
+
+
+def arc_ratio(values):
+    values = values[1:] if values.size == r.size else values
+    return values[peri_arc].max() / values[apo_arc].max()
+
+
+log_corr = {name: np.corrcoef(np.log(values[1:][first]), np.log(rate[first]))[0, 1]
+            for name, values in (("curvature", curvature), ("x4", x4))}
+location = pd.DataFrame({
+    "quantity": ["time_share_r_lt_1_5", "energy_variation_share_r_lt_1_5",
+                 "curvature_ratio_arcs", "min_curvature", "r_min_curvature",
+                 "x4_ratio_arcs", "energy_rate_ratio_arcs",
+                 "log_correlation_rate_curvature", "log_correlation_rate_x4",
+                 "energy_error_apoapsis", "energy_error_next_periapsis",
+                 "max_position_error", "t_max_position_error", "r_max_position_error"],
+    "value": [near.mean(), np.abs(np.diff(energy_error))[near].sum()
+              / np.abs(np.diff(energy_error)).sum(),
+              arc_ratio(curvature), curvature[one].min(),
+              r[np.argmin(np.where(one, curvature, np.inf))],
+              arc_ratio(x4), arc_ratio(rate), log_corr["curvature"], log_corr["x4"],
+              abs(energy_error[apoapsis]),
+              abs(energy_error[np.argmin(np.abs(res.t - period))]),
+              x_err[peak], res.t[peak], r[peak]]})
+outputs.save_data(location, "cannonball-error-location")
+for row in location.itertuples():
+    print(f"{row.quantity:<34} {row.value:10.{2 if 'ratio' in row.quantity else 3}g}")
+
+fig, axes = plt.subplots(3, 1, figsize=(outputs.WIDTH, 7.6), sharex=True)
+axes[0].plot(res.t[one], r[one], color="k")
+axes[0].set_ylabel("distance $r$")
+axes[1].semilogy(res.t[one], curvature[one], color="C1")
+axes[1].semilogy(res.t[one], x4[one], color="C2")
+axes[1].text(period / 4, 0.35, "path curvature $\\kappa$", color="C1", ha="center", va="bottom")
+axes[1].text(period / 4, 4e-3, "$|\\mathbf{x}''''|$", color="C2", ha="left", va="bottom")
+axes[1].set_ylabel("along the exact orbit")
+axes[2].semilogy(middle[first], rate[first], color="C0")
+axes[2].set_ylabel("energy-error rate\n$|\\Delta H_{\\rm err}| / \\Delta t$")
+axes[2].set_xlabel("time $t$ (one orbit of the ellipse, $\\mu = 0.6$)")
+for ax in axes:
+    ax.axvline(period / 2, color="grey", linestyle=":", linewidth=1.5)
+axes[0].text(period / 2, 1.2, " apoapsis", va="bottom", fontsize=10)
+fig.suptitle("Spline on the ellipse: the error changes where $\\mathbf{x}''''$ is large")
+outputs.save_figure(fig, "cannonball-error-location")
+
+# %%
+value = location.set_index("quantity").value
+outputs.say(
+    f"The largest path curvature near periapsis ($r < 1.5$) and near apoapsis ($r > 4.5$) "
+    f"is the same (ratio {value['curvature_ratio_arcs']:.2f}; the curvature is smallest, "
+    f"{value['min_curvature']:.3f}, at $r = {value['r_min_curvature']:.2f}$), "
+    f"while the largest $|\\mathbf x''''|$ is {outputs.sci(value['x4_ratio_arcs'])} times "
+    f"larger near periapsis, and the energy error changes at most "
+    f"{outputs.sci(value['energy_rate_ratio_arcs'])} times faster there than near apoapsis.  "
+    f"Over the first orbit the logarithm of that rate correlates with "
+    f"$\\log|\\mathbf x''''|$ at {value['log_correlation_rate_x4']:.2f} and with "
+    f"$\\log\\kappa$ at {value['log_correlation_rate_curvature']:.2f}.  "
+    f"{value['energy_variation_share_r_lt_1_5']:.0%} of the energy error's variation "
+    f"happens at $r < 1.5$, in {value['time_share_r_lt_1_5']:.0%} of the time.")
+outputs.say(
+    f"The energy error is not accumulated noise either: it jumps as the body passes "
+    f"periapsis, stays on a plateau ({outputs.sci(value['energy_error_apoapsis'])} at "
+    f"apoapsis) for the rest of the orbit, and falls back to "
+    f"{outputs.sci(value['energy_error_next_periapsis'])} at the next periapsis, "
+    f"$t = {period:.2f}$.  The position error is largest, "
+    f"{outputs.sci(value['max_position_error'])}, at $t = "
+    f"{value['t_max_position_error']:.2f}$ ($r = "
+    f"{value['r_max_position_error']:.2f}$), near that periapsis.")
 
 # %% [markdown]
-# The energy error is not accumulated noise.  Almost all of its variation
-# happens in the short arcs near periapsis, where the curvature and the
-# acceleration are largest: it jumps to $6.5 \times 10^{-6}$ as the body
-# leaves periapsis, stays flat for the rest of the orbit, and falls back
-# to about $10^{-9}$ at the next periapsis passage.  This is the signature
-# of a method that conserves a nearby *modified* energy (Newmark's method
-# with $\gamma = 1/2$ is symplectic for a modified symplectic form, Kane,
-# Marsden, Ortiz & West 2000): the difference $H - \tilde H = O(h^2)$
-# depends on where the body is on the orbit, not on how long it has flown.
-# The report's reading (the error is tied to the high-curvature part of the
-# trajectory) holds for where the error *changes*, not for where it is
-# largest.
+# This is the signature of a method that conserves a nearby *modified*
+# energy (Newmark's method with $\gamma = 1/2$ is symplectic for a modified
+# symplectic form, Kane, Marsden, Ortiz & West 2000): the difference
+# $H - \tilde H = O(h^2)$ depends on where the body is on the orbit, not on
+# how long it has flown.  So the report is right that the error follows the
+# trajectory, and wrong about why: the error changes where the acceleration
+# changes fastest, near periapsis, not where the path is most curved (the
+# curvature is equal at both apsides, and the error does not change at
+# apoapsis).

@@ -13,6 +13,30 @@ from nbclient.exceptions import CellExecutionError
 
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.py"))
+KERNELSPEC = {"name": "python3", "display_name": "Python 3 (ipykernel)", "language": "python"}
+README = ROOT / "README.md"
+# README sections written from data/ by `make reproduce`: marker name -> CSV.
+README_TABLES = {"claims": "claims", "errata": "errata"}
+
+
+def markdown_table(frame):
+    """A pandas DataFrame as a GitHub Markdown table (| in cells escaped)."""
+    cells = [[str(v).replace("|", "\\|") for v in row] for row in frame.itertuples(index=False)]
+    lines = ["| " + " | ".join(frame.columns) + " |", "|" + "---|" * len(frame.columns)]
+    return "\n".join(lines + ["| " + " | ".join(row) + " |" for row in cells])
+
+
+def readme_with_tables(text, data_dir):
+    """``text`` with each block between <!-- begin NAME --> and <!-- end NAME -->
+    replaced by the table of data/NAME.csv."""
+    import pandas as pd
+    for marker, name in README_TABLES.items():
+        begin, end = f"<!-- begin {marker} -->", f"<!-- end {marker} -->"
+        head, rest = text.split(begin)
+        _, tail = rest.split(end)
+        table = markdown_table(pd.read_csv(data_dir / f"{name}.csv"))
+        text = f"{head}{begin}\n{table}\n{end}{tail}"
+    return text
 
 
 def execute(script, output_root=None):
@@ -20,8 +44,8 @@ def execute(script, output_root=None):
     notebook = jupytext.read(script)
     for index, cell in enumerate(notebook.cells):  # stable ids: no diff noise
         cell.id = f"cell-{index:02d}"
-    notebook.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
-                                       "language": "python"}
+    # The kernel `make` installs: JupyterLab writes this same spec back on save.
+    notebook.metadata["kernelspec"] = KERNELSPEC
     env = dict(os.environ, MPLBACKEND="Agg")
     if output_root is not None:
         env["SPLINESTEP_OUTPUT"] = str(output_root)
@@ -49,6 +73,7 @@ def main():
         jupytext.write(notebook, script.with_suffix(".ipynb"))
         print(f"{script.relative_to(ROOT)}: {time.perf_counter() - start:5.1f} s", flush=True)
     print(f"all notebooks: {time.perf_counter() - total:5.1f} s\n")
+    README.write_text(readme_with_tables(README.read_text(), ROOT / "data"))
     claims = ROOT / "data" / "claims.csv"
     if claims.exists():
         import pandas as pd

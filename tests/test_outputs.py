@@ -1,16 +1,18 @@
-"""The committed notebooks, data and figures are what the code produces:
-paired files agree, and a fresh run reproduces data/ to a relative 1e-9
-and figures/ to matplotlib's image comparison."""
+"""The committed notebooks, data, figures and README tables are what the
+code produces: paired files agree, and a fresh run reproduces data/ and
+figures/ to the rule of tests/reproduction.py, on this machine's CPU or
+another's."""
 
+import json
 import os
 import sys
 from pathlib import Path
 
 import jupytext
-import numpy as np
 import pandas as pd
 import pytest
-from matplotlib.testing.compare import compare_images
+
+import reproduction
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "scripts"))
@@ -38,6 +40,17 @@ def test_pair_has_the_same_cells(script):
     assert all(c.execution_count is not None for c in code_cells), "stored notebook not executed"
 
 
+@pytest.mark.parametrize("script", SCRIPTS, ids=lambda p: p.stem)
+def test_notebook_names_the_installed_kernel(script):
+    """The kernelspec stored in each notebook is the one `make` installs,
+    so JupyterLab has nothing to rewrite when it saves."""
+    from jupyter_client.kernelspec import KernelSpecManager
+    stored = json.loads(script.with_suffix(".ipynb").read_text())["metadata"]["kernelspec"]
+    installed = KernelSpecManager().get_kernel_spec(stored["name"])
+    assert stored["display_name"] == installed.display_name
+    assert stored == reproduce.KERNELSPEC
+
+
 @pytest.fixture(scope="session")
 def fresh():
     """The outputs of a fresh run: those nbval just wrote, or a new run."""
@@ -59,19 +72,27 @@ def test_outputs_exist():
         assert (ROOT / "figures" / f"{figure}.pdf").exists()
 
 
+def test_every_data_column_has_a_declared_kind():
+    for path in COMMITTED_DATA:
+        frame = pd.read_csv(path)
+        for column in frame.columns:
+            if pd.api.types.is_numeric_dtype(frame[column]):
+                reproduction.kind_of(path.stem, column)  # KeyError if undeclared
+
+
 @pytest.mark.parametrize("committed", COMMITTED_DATA, ids=lambda p: p.stem)
 def test_data_reproduces(fresh, committed):
     old = pd.read_csv(committed)
     new = pd.read_csv(fresh / "data" / committed.name)
-    assert list(old.columns) == list(new.columns) and old.shape == new.shape
-    for column in old.columns:
-        if pd.api.types.is_numeric_dtype(old[column]):
-            np.testing.assert_allclose(new[column], old[column], rtol=1e-9, atol=0,
-                                       err_msg=f"{committed.name}: {column}")
-        else:
-            assert (old[column] == new[column]).all(), f"{committed.name}: {column}"
+    problems = reproduction.compare_frames(committed.stem, old, new)
+    assert not problems, "\n".join(problems)
 
 
 @pytest.mark.parametrize("committed", COMMITTED_PNG, ids=lambda p: p.stem)
 def test_figures_reproduce(fresh, committed):
-    assert compare_images(str(committed), str(fresh / "figures" / committed.name), tol=2) is None
+    assert reproduction.figures_match(committed, fresh / "figures" / committed.name)
+
+
+def test_readme_tables_are_the_data():
+    text = (ROOT / "README.md").read_text()
+    assert reproduce.readme_with_tables(text, ROOT / "data") == text

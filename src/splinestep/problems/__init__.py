@@ -9,9 +9,11 @@
 """
 
 from ._problem import Problem
-from .kepler import CANNONBALL_MU, ORBIT_TYPES, cannonball, kepler_exact
+from .kepler import (CANNONBALL_MU, ORBIT_TYPES, acceleration_derivatives, cannonball,
+                     kepler_exact, orbit_elements, path_curvature)
 from .oscillator import harmonic
 from .euler_top import euler_top_exact, rigid_body
 
 __all__ = ["Problem", "cannonball", "CANNONBALL_MU", "ORBIT_TYPES", "kepler_exact",
+           "orbit_elements", "acceleration_derivatives", "path_curvature",
            "rigid_body", "euler_top_exact", "harmonic"]

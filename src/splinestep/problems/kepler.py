@@ -173,3 +173,60 @@ def cannonball(mu):
         notes=("Launch x(0) = (1, 0), x'(0) = (0, 1) (not printed in the report); "
                "energy 1/2|v|^2 - mu/r = 1/2 - mu."),
     )
+
+
+def orbit_elements(mu, r0=LAUNCH_POSITION, v0=LAUNCH_VELOCITY):
+    """Energy, eccentricity and (for an ellipse) semi-major axis and period
+    of the Kepler orbit launched from ``r0`` with velocity ``v0``.
+
+    Returns
+    -------
+    dict with keys ``energy`` (1/2 |v|^2 - mu/r), ``eccentricity``, ``a``
+    (semi-major axis, inf for a parabola, negative for a hyperbola) and
+    ``period`` (2 pi sqrt(a^3 / mu), or nan when the orbit is not closed).
+    """
+    r0 = np.asarray(r0, dtype=float)
+    v0 = np.asarray(v0, dtype=float)
+    rn = np.hypot(*r0)
+    energy_ = 0.5 * (v0 @ v0) - mu / rn
+    ecc = np.hypot(*((v0 @ v0 - mu / rn) * r0 - (r0 @ v0) * v0)) / mu
+    a = -mu / (2.0 * energy_) if energy_ != 0 else np.inf
+    period = 2.0 * np.pi * np.sqrt(a ** 3 / mu) if energy_ < 0 else np.nan
+    return dict(energy=float(energy_), eccentricity=float(ecc), a=float(a), period=float(period))
+
+
+def acceleration_derivatives(x, v, mu):
+    """The acceleration a = x'' = -mu x / r^3 and its first two time
+    derivatives along a Kepler orbit, in closed form from the state.
+
+    With r' = x.v / r and r'' = (|v|^2 + x.a - r'^2) / r:
+
+        a'  = -mu (v / r^3 - 3 x r' / r^4)
+        a'' = -mu (a / r^3 - 6 v r' / r^4 - 3 x r'' / r^4 + 12 x r'^2 / r^5)
+
+    a'' is x'''', which sets the local error h^4 x''''/24 of the spline step.
+
+    Parameters
+    ----------
+    x, v : ndarray, shape (2, k)
+
+    Returns
+    -------
+    a, a1, a2 : ndarray, shape (2, k)
+    """
+    x = np.asarray(x, dtype=float)
+    v = np.asarray(v, dtype=float)
+    r = np.hypot(x[0], x[1])
+    a = -mu * x / r ** 3
+    rdot = np.sum(x * v, axis=0) / r
+    rddot = (np.sum(v * v, axis=0) + np.sum(x * a, axis=0) - rdot ** 2) / r
+    a1 = -mu * (v / r ** 3 - 3.0 * x * rdot / r ** 4)
+    a2 = -mu * (a / r ** 3 - 6.0 * v * rdot / r ** 4 - 3.0 * x * rddot / r ** 4
+                + 12.0 * x * rdot ** 2 / r ** 5)
+    return a, a1, a2
+
+
+def path_curvature(v, a):
+    """Curvature |v x a| / |v|^3 of a plane path with velocity v and
+    acceleration a, each of shape (2, k)."""
+    return np.abs(v[0] * a[1] - v[1] * a[0]) / np.hypot(v[0], v[1]) ** 3

@@ -1,0 +1,117 @@
+"""Where the analysis writes, how it writes, and how its figures look.
+
+The notebooks beside this file import it (``import outputs``); the library in
+``src/splinestep`` never does.  Paths are found from this file's own place, so
+running a notebook writes below the repository that holds it, whatever copy
+of ``splinestep`` is installed where.  With the environment variable
+``SPLINESTEP_OUTPUT`` set, outputs go below that folder instead (the tests
+regenerate everything there and compare with the committed files).
+
+Figures are laid out for the width at which they are read: a JupyterLab
+column or the README, about 900 px.  Every figure is :data:`WIDTH` inches
+wide, written at :data:`DPI` (1050 px), with text of at least
+:data:`MIN_FONT` points, so that it is at least as large as the notebook's own
+text when the image is shown at 85 % of its size.
+"""
+
+import math
+import os
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+_OUTPUT = os.environ.get("SPLINESTEP_OUTPUT")
+OUTPUT = Path(_OUTPUT) if _OUTPUT else ROOT
+DATA = OUTPUT / "data"
+FIGURES = OUTPUT / "figures"
+
+WIDTH = 7.0      # inches, every figure
+DPI = 150        # of the PNG: 1050 px wide
+MIN_FONT = 9.5   # points, the smallest text in a figure (legends, tick labels)
+
+# Colours per method and per gravity parameter, used in every figure.
+METHOD_STYLE = {
+    "spline": dict(color="C0", linestyle="-", label="cubic spline"),
+    "rk4": dict(color="C3", linestyle="--", label="RK4"),
+    "reference": dict(color="k", linestyle=":", label="exact"),
+}
+MU_COLORS = {0.4: "C0", 0.5: "C1", 0.6: "C2", 1.0: "C4"}
+
+_PDF_METADATA = {"Creator": None, "Producer": None, "CreationDate": None}
+_PNG_METADATA = {"Software": None}
+
+
+def setup():
+    """Agg backend and the shared style; returns ``matplotlib.pyplot``."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    plt.rcParams.update({
+        "figure.dpi": 100, "savefig.dpi": DPI, "font.size": 11,
+        "axes.titlesize": 11, "axes.labelsize": 11, "figure.titlesize": 12,
+        "legend.fontsize": MIN_FONT, "xtick.labelsize": 10, "ytick.labelsize": 10,
+        "axes.grid": True, "grid.alpha": 0.3, "legend.framealpha": 0.9,
+        "axes.formatter.useoffset": False, "lines.linewidth": 1.4,
+        "svg.hashsalt": "splinestep", "figure.constrained_layout.use": True,
+    })
+    return plt
+
+
+def save_figure(fig, name):
+    """Write ``figures/<name>.pdf`` and ``.png`` with no dates or version
+    stamps, so the same environment regenerates identical bytes; close the
+    figure and return the PNG for display (an IPython ``Image``, whose text
+    form has no address, so nbval compares it stably)."""
+    import matplotlib.pyplot as plt
+    width = fig.get_size_inches()[0]
+    if abs(width - WIDTH) > 1e-9:
+        raise ValueError(f"figure {name!r} is {width} in wide; lay it out for {WIDTH} in")
+    FIGURES.mkdir(parents=True, exist_ok=True)
+    fig.savefig(FIGURES / f"{name}.pdf", metadata=_PDF_METADATA)
+    fig.savefig(FIGURES / f"{name}.png", metadata=_PNG_METADATA)
+    plt.close(fig)
+    try:
+        from IPython.display import Image
+    except ImportError:  # pragma: no cover - outside Jupyter
+        return FIGURES / f"{name}.png"
+    return Image(filename=str(FIGURES / f"{name}.png"))
+
+
+def save_data(frame, name):
+    """Write ``data/<name>.csv`` (a pandas DataFrame) with 12 significant
+    digits.  Returns None, so a notebook cell ending with it shows nothing."""
+    DATA.mkdir(parents=True, exist_ok=True)
+    frame.to_csv(DATA / f"{name}.csv", index=False, float_format="%.12g",
+                 lineterminator="\n")
+
+
+def read_data(name):
+    """Read ``data/<name>.csv`` as written by :func:`save_data`."""
+    import pandas as pd
+    return pd.read_csv(DATA / f"{name}.csv")
+
+
+def sci(value, digits=2):
+    """``value`` to ``digits`` significant digits in Markdown math,
+    e.g. ``$4.1 \\times 10^{-3}$``; plain decimals between 0.01 and 1000."""
+    if value == 0 or not math.isfinite(value):
+        return f"${value:g}$"
+    exponent = math.floor(math.log10(abs(value)))
+    if -2 <= exponent < 3:
+        return f"${value:.{max(digits - 1 - exponent, 0)}f}$"
+    mantissa = f"{value / 10 ** exponent:.{digits - 1}f}"
+    if float(mantissa) >= 10:  # rounding carried into the next decade
+        exponent += 1
+        mantissa = f"{value / 10 ** exponent:.{digits - 1}f}"
+    return f"${mantissa} \\times 10^{{{exponent}}}$"
+
+
+def round_sig(value, digits=2):
+    """``value`` rounded to ``digits`` significant digits."""
+    return float(f"{value:.{digits - 1}e}")
+
+
+def say(text):
+    """Show ``text`` as Markdown: the sentences of a notebook that quote a
+    measured number are built in code from the computation, never typed."""
+    from IPython.display import Markdown, display
+    display(Markdown(text))

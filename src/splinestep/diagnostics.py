@@ -1,0 +1,104 @@
+"""Measurements of a computed solution that the notebooks report: the
+amplitude factor and rotation of a step on the oscillator, and whether an
+error stays bounded or grows along a run.
+
+Each metric can say both things: the amplitude factor is below 1 for a
+damped method and above 1 for an unstable one; the growth ratio is near 1
+for a bounded error and near the number of windows for one that grows
+linearly (tests/test_diagnostics.py shows both sides).
+"""
+
+import numpy as np
+
+
+def recurrence_fit(y):
+    """Amplitude factor and rotation per step of a sampled oscillation.
+
+    A linear one-step method applied to y'' = -omega^2 y maps (y_n, y'_n)
+    by a fixed 2x2 matrix with eigenvalues rho exp(+-i theta), so its
+    samples satisfy y_{n+1} = 2 rho cos(theta) y_n - rho^2 y_{n-1}.  The two
+    coefficients are fitted by least squares over the whole sequence.
+
+    Parameters
+    ----------
+    y : array_like, shape (n,)
+        Samples y_0, ..., y_{n-1} at the steps (n >= 4).
+
+    Returns
+    -------
+    rho : float
+        Amplitude factor per step, the larger modulus of the two roots of
+        z^2 - 2 rho cos(theta) z + rho^2 (1: undamped, < 1: damped, > 1:
+        growing; beyond a stability limit the roots are real and rho is the
+        larger).
+    theta : float
+        Rotation per step, in [0, pi] (0 or pi when the roots are real); the
+        numerical period is 2 pi h / theta.
+    """
+    y = np.asarray(y, dtype=float)
+    if y.ndim != 1 or y.size < 4:
+        raise ValueError("y must be a 1-D array of at least 4 samples")
+    basis = np.stack([y[1:-1], -y[:-2]], axis=1)
+    (two_c, product), *_ = np.linalg.lstsq(basis, y[2:], rcond=None)
+    roots = np.roots([1.0, -two_c, product])
+    largest = roots[np.argmax(np.abs(roots))]
+    return float(np.abs(largest)), float(abs(np.angle(largest)))
+
+
+def window_maxima(t, error, windows=8):
+    """Largest ``error`` in each of ``windows`` equal parts of the run."""
+    t = np.asarray(t, dtype=float)
+    error = np.abs(np.asarray(error, dtype=float))
+    edges = np.linspace(t[0], t[-1], windows + 1)
+    index = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, windows - 1)
+    return np.array([error[index == k].max() for k in range(windows)])
+
+
+def growth_ratio(t, error, windows=8):
+    """Largest error in the last of ``windows`` equal parts of the run over
+    the largest in the first: about 1 for an error that stays bounded once
+    it has reached its level, about ``windows`` for one that grows linearly
+    from zero."""
+    maxima = window_maxima(t, error, windows)
+    return float(maxima[-1] / maxima[0])
+
+
+def loglog_interp(x, y, x_new):
+    """Interpolate the curve (x, y) linearly in log x and log y at
+    ``x_new``: nan outside the range of ``x`` (no extrapolation).  ``x``
+    need not be sorted; the points are sorted by x first."""
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    order = np.argsort(x)
+    log_new = np.log(np.asarray(x_new, dtype=float))
+    out = np.exp(np.interp(log_new, np.log(x[order]), np.log(y[order])))
+    return np.where((log_new < np.log(x.min())) | (log_new > np.log(x.max())), np.nan, out)
+
+
+def work_to_reach(nfev, error, target):
+    """Evaluations needed for ``error`` = ``target`` on a work-precision
+    curve, interpolated log-log between the two measured points that
+    bracket it; nan when no two points bracket the target."""
+    nfev = np.asarray(nfev, dtype=float)
+    error = np.asarray(error, dtype=float)
+    order = np.argsort(nfev)
+    nfev, error = nfev[order], error[order]
+    for k in range(nfev.size - 1):
+        (e0, e1), (n0, n1) = error[k:k + 2], nfev[k:k + 2]
+        if min(e0, e1) <= target <= max(e0, e1) and e0 != e1:
+            w = np.log(target / e0) / np.log(e1 / e0)
+            return float(np.exp(np.log(n0) + w * np.log(n1 / n0)))
+    return float("nan")
+
+
+def ratio_range(reference, other):
+    """Smallest and largest ratio other_error / reference_error at equal
+    work, over the evaluation counts both curves cover (interpolated
+    log-log at 200 counts).  Each argument is a pair (nfev, error)."""
+    lo = max(np.min(reference[0]), np.min(other[0]))
+    hi = min(np.max(reference[0]), np.max(other[0]))
+    if not lo < hi:
+        return float("nan"), float("nan")
+    grid = np.geomspace(lo, hi, 200)
+    ratio = loglog_interp(*other, grid) / loglog_interp(*reference, grid)
+    return float(np.nanmin(ratio)), float(np.nanmax(ratio))

@@ -1,0 +1,202 @@
+"""What a regenerated number must reproduce, decided once, from what it means.
+
+Every column of every file in ``data/`` has a kind (:data:`COLUMNS`), and each
+kind has one tolerance (:data:`TOLERANCES`).  :func:`compare_frames` is the only
+comparison the data checks use.  The tolerances come from the meaning of the
+numbers, not from the digits one machine printed:
+
+``exact``
+    Inputs (step sizes, gravity parameters, times, tolerances), labels and
+    text built from measured numbers: the same values to the digits written
+    (%.12g), the same strings.  Counts (steps, evaluations, points) are
+    integers and compare equal.
+``slope``
+    Fitted orders, reported to three decimals: equal to 1e-3.
+``state``
+    Solution values (positions, angular velocities, radii).  Rounding in a
+    run of up to 1e4 steps moves them by far less than 1e-9 of their scale;
+    a change of the method moves them by the method's error (>= 1e-6 of the
+    scale here), so they compare to 1e-9 of the column's largest value.
+``error``
+    Errors against a reference and changes of an invariant: differences of
+    nearly equal numbers, whose rounding noise relative to themselves is
+    about eps |solution| / |error|.  They compare to a relative 1e-4 (the
+    2-3 digits quoted in the text, with margin), and below an absolute
+    ROUNDING_FLOOR of 1e-12, which a double-precision run of O(1)
+    quantities over 1e3-1e5 steps cannot reproduce (its own rounding).  A 1 %
+    change of one coefficient of the scheme, or of the step, changes the
+    spline's errors by 1-2 % and fails this (tests/test_reproduction_rule.py).
+``adaptive``
+    Errors and evaluation counts of scipy's adaptive baselines (RK45,
+    DOP853 at a given tolerance): their step sequence is chosen from error
+    estimates that are themselves rounded, so an accept/reject decision can
+    flip on another CPU (measured: a relative 2.8e-3 in the error at rtol
+    1e-11).  They compare to a relative 5e-2, which still separates one
+    tolerance setting from the next (a factor of 10 apart).
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+ROUNDING_FLOOR = 1e-12
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    rtol: float = 0.0        # relative to each value
+    atol: float = 0.0        # absolute
+    scale_rtol: float = 0.0  # relative to the largest |value| of the column
+
+    def mismatch(self, old, new):
+        """Boolean array: where ``new`` does not reproduce ``old``."""
+        old = np.asarray(old, dtype=float)
+        new = np.asarray(new, dtype=float)
+        finite = np.abs(old[np.isfinite(old)])
+        scale = finite.max() if finite.size else 0.0
+        bound = self.rtol * np.abs(old) + self.atol + self.scale_rtol * scale
+        both_nan = np.isnan(old) & np.isnan(new)
+        return ~both_nan & ~(np.abs(new - old) <= bound)
+
+
+TOLERANCES = {
+    "exact": Tolerance(rtol=1e-12),
+    "slope": Tolerance(atol=1e-3),
+    "state": Tolerance(scale_rtol=1e-9),
+    "error": Tolerance(rtol=1e-4, atol=ROUNDING_FLOOR),
+    "adaptive": Tolerance(rtol=5e-2, atol=ROUNDING_FLOOR),
+}
+
+# file -> column -> kind.  Text columns are always compared as strings.
+COLUMNS = {
+    "cannonball-error-histories": dict(mu="exact", method="exact", t="exact", r="state",
+                                       energy_error="error", momentum_error="error",
+                                       position_error="error"),
+    "cannonball-error-location": dict(quantity="exact", value="error"),
+    "cannonball-max-errors": dict(mu="exact", method="exact", energy_error="error",
+                                  momentum_error="error", position_error="error",
+                                  nstep="exact", nfev="exact"),
+    "cannonball-trajectories": dict(mu="exact", t="exact",
+                                    **{f"{c}_{m}": "state" for c in "xy"
+                                       for m in ("spline", "rk4", "exact")}),
+    "convergence": dict(problem="exact", method="exact", dt="exact", nfev="exact",
+                        max_error="error"),
+    "convergence-slopes": dict(problem="exact", method="exact", slope="slope", points="exact"),
+    "method-phase-error": dict(omega_h="exact", period_ratio_measured="state",
+                               period_ratio_theory="state", amplitude_factor_spline="state",
+                               amplitude_factor_rk4="state", amplitude_factor_rk4_theory="state"),
+    "rigid-body-angular-velocity": dict(case="exact", t="exact",
+                                        **{f"omega{i}_{m}": "state" for i in (1, 2, 3)
+                                           for m in ("spline", "rk4", "reference")}),
+    "rigid-body-energy-error": dict(case="exact", t="exact",
+                                    **{f"{q}_{m}": "error"
+                                       for q in ("energy_change", "solution_error")
+                                       for m in ("spline", "rk4", "reference")}),
+    "rigid-body-max-errors": dict(case="exact", spline_evaluations_per_step="exact",
+                                  **{f"{q}_{m}": "error"
+                                     for q in ("energy_change", "solution_error")
+                                     for m in ("spline", "rk4", "reference")}),
+    "work-precision": dict(method="exact", setting="exact", nfev="exact", max_error="error"),
+    "work-to-reach": dict(method="exact", target="exact", nfev_interpolated="error",
+                          fewest_tested="exact", error_at_fewest="error",
+                          most_tested="exact", error_at_most="error"),
+    "work-precision-ratios": dict(method="exact", baseline="exact", ratio_min="error",
+                                  ratio_max="error"),
+    "rigid-body-energy-drift": dict(method="exact", energy_error_t80="error",
+                                    energy_error_t800="error", max_energy_error="error",
+                                    growth_ratio="error", drift_rate="error"),
+}
+
+# Rows produced by scipy's adaptive solvers, and which of their columns are
+# then of kind "adaptive" instead of the column's own kind.
+ADAPTIVE_ROWS = {
+    "work-precision": (lambda frame: frame["method"].str.startswith("scipy"),
+                       ("nfev", "max_error")),
+    "work-to-reach": (lambda frame: frame["method"].str.startswith("scipy"),
+                      ("nfev_interpolated", "fewest_tested", "error_at_fewest",
+                       "most_tested", "error_at_most")),
+    "work-precision-ratios": (lambda frame: frame["baseline"].str.startswith("scipy"),
+                              ("ratio_min", "ratio_max")),
+}
+
+
+def _key(column):
+    return column.replace(".", "_")
+
+
+def kind_of(name, column):
+    """The kind of ``column`` in ``data/<name>.csv``; KeyError if undeclared."""
+    try:
+        return COLUMNS[name][_key(column)]
+    except KeyError:
+        raise KeyError(f"data/{name}.csv: column {column!r} has no declared kind in "
+                       "tests/reproduction.py") from None
+
+
+def compare_frames(name, old, new):
+    """Differences between the committed ``old`` and a regenerated ``new``
+    version of ``data/<name>.csv``, as a list of readable strings (empty
+    when ``new`` reproduces ``old``)."""
+    problems = []
+    if list(old.columns) != list(new.columns):
+        return [f"{name}: columns {list(new.columns)} instead of {list(old.columns)}"]
+    if old.shape != new.shape:
+        return [f"{name}: shape {new.shape} instead of {old.shape}"]
+    select, adaptive_columns = ADAPTIVE_ROWS.get(name, (lambda f: np.zeros(len(f), bool), ()))
+    adaptive = np.asarray(select(old), dtype=bool)
+    for column in old.columns:
+        if not pd.api.types.is_numeric_dtype(old[column]):
+            differ = (old[column].astype(str) != new[column].astype(str)).to_numpy()
+            kinds = np.full(len(old), "text", dtype=object)
+        else:
+            kind = kind_of(name, column)
+            kinds = np.full(len(old), kind, dtype=object)
+            if column in adaptive_columns:
+                kinds[adaptive] = "adaptive"
+            differ = np.zeros(len(old), bool)
+            for k in set(kinds):
+                rows = kinds == k
+                differ[rows] = TOLERANCES[k].mismatch(old[column][rows], new[column][rows])
+        for row in np.flatnonzero(differ)[:3]:
+            problems.append(f"{name}: {column}[{row}] ({kinds[row]}) "
+                            f"{old[column].iloc[row]!r} -> {new[column].iloc[row]!r}")
+        if differ.sum() > 3:
+            problems.append(f"{name}: {column}: {differ.sum() - 3} more rows differ")
+    return problems
+
+
+# Figures: a pixel of the new image matches when some pixel within
+# FIGURE_SHIFT pixels of it in the committed image has the same colour to
+# within FIGURE_COLOUR (on a 0-1 scale).  Rounding moves a curve by a small
+# fraction of a pixel, which changes anti-aliased edge pixels but never
+# leaves a pixel without a match nearby; a curve that moves by a few pixels
+# leaves hundreds.  At most FIGURE_PIXELS unmatched pixels are allowed.
+FIGURE_SHIFT = 1
+FIGURE_COLOUR = 0.2
+FIGURE_PIXELS = 20
+
+
+def unmatched_pixels(old_png, new_png):
+    """Number of pixels of ``new_png`` with no match in ``old_png`` (see
+    above), or None when the sizes differ."""
+    from matplotlib.image import imread
+    old, new = imread(old_png)[..., :3], imread(new_png)[..., :3]
+    if old.shape != new.shape:
+        return None
+    k = FIGURE_SHIFT
+    padded = np.pad(old, ((k, k), (k, k), (0, 0)), mode="edge")
+    best = np.full(new.shape[:2], np.inf)
+    for dy in range(2 * k + 1):
+        for dx in range(2 * k + 1):
+            shifted = padded[dy:dy + new.shape[0], dx:dx + new.shape[1]]
+            best = np.minimum(best, np.max(np.abs(new - shifted), axis=2))
+    return int(np.sum(best > FIGURE_COLOUR))
+
+
+def figures_match(old_png, new_png):
+    """True when ``new_png`` reproduces ``old_png`` under the rule above
+    (checked both ways, so nothing may appear or vanish)."""
+    there = unmatched_pixels(old_png, new_png)
+    back = unmatched_pixels(new_png, old_png)
+    return there is not None and there <= FIGURE_PIXELS and back <= FIGURE_PIXELS
