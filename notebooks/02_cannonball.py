@@ -59,6 +59,7 @@ for ax, mu in zip(axes.flat, MUS):
     ax.plot(0, 0, "k*", markersize=9, label="centre of attraction")
     ax.set_title(f"$\\mu = {mu:g}$ ({problems.ORBIT_TYPES[mu]})")
     ax.set_aspect("equal", adjustable="datalim")
+    ax.xaxis.set_major_locator(plt.MaxNLocator(5))
     stride = slice(None, None, 10)
     rows.append(pd.DataFrame({
         "mu": mu, "t": t[stride],

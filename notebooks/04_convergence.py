@@ -82,7 +82,9 @@ for ax, names in zip(axes, ([n for n in cases if n.startswith("cannonball")], ["
     for order, anchor in ((2, 1.0), (4, 3e-3)):
         guide = anchor * (dt / dt[0]) ** order
         ax.loglog(dt, guide, color="k", linewidth=1.0, linestyle=(0, (1, 1)))
-        ax.text(dt[-1] * 0.9, guide[-1], f"slope {order}", ha="right", va="bottom", fontsize=10)
+        middle = np.sqrt(dt[0] * dt[-1])
+        ax.text(middle, anchor * (middle / dt[0]) ** order * 1.5, f"slope {order}",
+                ha="right", va="bottom", fontsize=10)
     ax.axhline(FLOOR, color="grey", linewidth=1)
     ax.text(STEPS[0], FLOOR * 1.5, "fit floor $10^{-10}$", ha="right", va="bottom",
             fontsize=10, color="grey")
