@@ -134,7 +134,7 @@ for ax, case in zip(axes, CASES):
 axes[0].set_ylabel("energy change $|E(t) - E(0)|$ (eq. 19)")
 axes[0].text(1, 1.5e-3, "report's bound $10^{-3}$", va="bottom", fontsize=10)
 fig.suptitle("Rigid-body energy error, $\\Delta t = 0.016$")
-outputs.save_figure(fig, "rigid-body-energy-error")
+figure_2b = outputs.save_figure(fig, "rigid-body-energy-error")
 errors = pd.concat(rows, ignore_index=True)
 outputs.save_data(errors.iloc[::5], "rigid-body-energy-error")
 
@@ -148,6 +148,7 @@ for row in summary.itertuples():
           f"max |omega - reference| spline {row.solution_error_spline:.2e}, "
           f"RK4 {row.solution_error_rk4:.2e}; spline evaluations per step "
           f"{row.spline_evaluations_per_step:.2f}")
+figure_2b
 
 # %%
 by_case = summary.set_index("case")
