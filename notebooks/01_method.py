@@ -24,9 +24,12 @@
 # eqs. 6-7, then eq. 9 and eq. 8.  `iterations=k` does exactly $k$ sweeps:
 
 # %%
+import sys
+
 import numpy as np
 import pandas as pd
 
+sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
 import splinestep
 from splinestep import diagnostics, problems

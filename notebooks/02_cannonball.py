@@ -16,9 +16,12 @@
 # equations).
 
 # %%
+import sys
+
 import numpy as np
 import pandas as pd
 
+sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
 from splinestep import problems
 
@@ -148,7 +151,8 @@ ellipse = errors[(errors.mu == 0.6) & (errors.method == "spline")]
 above = ellipse.t[ellipse.position_error > 1e-3]
 below_after = ellipse.t[(ellipse.t > above.min()) & (ellipse.position_error <= 1e-3)]
 print(f"ellipse, spline: position error first above 1e-3 at t = {above.min():.2f}, "
-      f"below it again after that at t = {below_after.max() if len(below_after) else np.nan:.2f}")
+      + (f"last below it after that at t = {below_after.max():.2f}" if len(below_after)
+         else f"above it from then to t = {ellipse.t.max():g}"))
 lo, hi = ratios.stack().idxmin(), ratios.stack().idxmax()
 outputs.say(
     f"The spline's energy and angular-momentum errors stay below "

@@ -22,11 +22,14 @@
 # solve at rtol $10^{-13}$, atol $10^{-14}$.
 
 # %%
+import sys
+
 import numpy as np
 import pandas as pd
 
 import dataclasses
 
+sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
 from splinestep import diagnostics, problems
 

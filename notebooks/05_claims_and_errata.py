@@ -7,9 +7,12 @@
 # and `make reproduce` copies them into the README.
 
 # %%
+import sys
+
 import numpy as np
 import pandas as pd
 
+sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
 import splinestep
 from splinestep import problems

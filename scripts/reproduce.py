@@ -1,4 +1,5 @@
-"""Regenerate everything: execute every notebook in order (rewriting its
+"""Regenerate everything (or, given file-name prefixes such as ``02 04``, those
+notebooks): execute every notebook in order (rewriting its
 .ipynb outputs, data/ and figures/), one line per notebook with its wall
 time, then print the claims table.  A failing notebook stops the run."""
 
@@ -61,9 +62,10 @@ def execute(script, output_root=None):
     return notebook
 
 
-def main():
+def main(names=()):
+    """Run every notebook, or those whose file names start with one of ``names``."""
     total = time.perf_counter()
-    for script in NOTEBOOKS:
+    for script in [s for s in NOTEBOOKS if not names or s.name.startswith(tuple(names))]:
         start = time.perf_counter()
         try:
             notebook = execute(script)
@@ -85,4 +87,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(sys.argv[1:]))

@@ -1,9 +1,10 @@
 """Where the analysis writes, how it writes, and how its figures look.
 
-The notebooks beside this file import it (``import outputs``); the library in
-``src/splinestep`` never does.  Paths are found from this file's own place, so
-running a notebook writes below the repository that holds it, whatever copy
-of ``splinestep`` is installed where.  With the environment variable
+The notebooks in ``notebooks/`` import it (``import outputs`` with
+``../scripts`` on ``sys.path``); the library in ``src/splinestep`` never
+does.  Paths are found from this file's own place, so running a notebook
+writes below the repository that holds it, whatever copy of ``splinestep``
+is installed where.  With the environment variable
 ``SPLINESTEP_OUTPUT`` set, outputs go below that folder instead (the tests
 regenerate everything there and compare with the committed files).
 
