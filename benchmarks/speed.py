@@ -54,6 +54,24 @@ def compile_c():
     return exe
 
 
+FIRST_CALL = '''
+import time, splinestep
+from splinestep import problems
+p = problems.cannonball(0.6)
+start = time.perf_counter()
+p.solve("spline", h=1.0)
+print(time.perf_counter() - start)
+'''
+
+
+def first_call_seconds():
+    """Seconds of the first compiled solve in a new process (compilation
+    included, imports excluded)."""
+    out = subprocess.run([sys.executable, "-c", FIRST_CALL], capture_output=True, text=True,
+                         check=True).stdout
+    return float(out.split()[-1])
+
+
 def main():
     print(f"machine: {platform.machine()}, {os.cpu_count()} cores, {platform.processor() or ''} "
           f"Python {platform.python_version()}, numpy {np.__version__}\n")
@@ -120,6 +138,12 @@ def main():
                   f"{per_eval:>10.1f} {ratio}")
         if exe is not None:
             print(f"C and compiled splinestep final states agree to {agree:.1e} (relative)")
+        if name == "kepler":
+            compile_s = first_call_seconds()
+            per_step = {label: seconds / steps for label, steps, _, seconds in rows}
+            saving = per_step["splinestep plain Python"] - per_step["splinestep compiled"]
+            print(f"first compiled solve in a new process: {compile_s:.1f} s; compiling "
+                  f"pays for runs of more than {compile_s / saving:.2g} steps")
         print()
     return 0
 

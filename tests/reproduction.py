@@ -85,7 +85,8 @@ COLUMNS = {
     "convergence-slopes": dict(problem="exact", method="exact", slope="slope", points="exact"),
     "method-phase-error": dict(omega_h="exact", period_ratio_measured="state",
                                period_ratio_theory="state", amplitude_factor_spline="state",
-                               amplitude_factor_rk4="state", amplitude_factor_rk4_theory="state"),
+                               amplitude_factor_rk4="state", amplitude_factor_rk4_theory="state",
+                               estimated_local_error="error", step_flagged="exact"),
     "rigid-body-angular-velocity": dict(case="exact", t="exact",
                                         **{f"omega{i}_{m}": "state" for i in (1, 2, 3)
                                            for m in ("spline", "rk4", "reference")}),

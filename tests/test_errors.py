@@ -12,7 +12,6 @@ f = lambda t, y, yp: -y
 
 @pytest.mark.parametrize("kwargs, name", [
     (dict(t_span=(1, 1)), "t_span"),
-    (dict(t_span=(1, 0)), "t_span"),
     (dict(t_span=(0, np.inf)), "t_span"),
     (dict(t_span=(0, np.nan)), "t_span"),
     (dict(t_span=5), "t_span"),
@@ -20,7 +19,6 @@ f = lambda t, y, yp: -y
     (dict(h=-0.1), "h"),
     (dict(h=np.nan), "h"),
     (dict(h=np.inf), "h"),
-    (dict(h=2.0), "h"),
     (dict(h=None, knots=[0, 0.5, 0.5, 1]), "knots"),
     (dict(h=None, knots=[0, 0.7, 0.5, 1]), "knots"),
     (dict(h=None, knots=[0, 0.5, 0.9]), "knots"),
@@ -47,7 +45,7 @@ def test_solve_rejects_bad_input(kwargs, name):
 
 
 @pytest.mark.parametrize("kwargs, name", [
-    (dict(t_span=(1, 0)), "t_span"), (dict(h=0.0), "h"), (dict(h=3.0), "h"),
+    (dict(t_span=(1, 0)), "t_span"), (dict(h=0.0), "h"), (dict(h=-3.0), "h"),
     (dict(yp0=[0.0, 1.0]), "y0 and yp0"), (dict(t_eval=[-1.0]), "t_eval")])
 def test_rk4_rejects_bad_input(kwargs, name):
     call = dict(t_span=(0, 1), y0=1.0, yp0=0.0, h=0.1)
@@ -88,16 +86,19 @@ def test_failure_part_way_with_t_eval_stops_reporting_at_last_knot():
     assert res.sol(0.45).shape == (1,)
 
 
-def test_wrong_shape_is_a_failure_not_a_crash():
-    res = splinestep.solve(lambda t, y, yp: np.zeros(3), (0, 1), [1.0, 2.0], [0.0, 0.0], 0.1)
-    assert res.status == -1 and "wrong shape" in res.message and "initial" in res.message
-    assert res.t.size == 0
+def test_wrong_shape_later_in_the_run_is_a_failure_not_a_crash():
+    def changes_shape(t, y, yp):
+        return -y if t < 0.35 else np.zeros(3)
+    res = splinestep.solve(changes_shape, (0, 1), [1.0, 2.0], [0.0, 0.0], 0.1)
+    assert res.status == -1 and "wrong shape" in res.message and "Step 4 " in res.message
+    assert res.nstep == 3
 
 
 def test_nonconvergence_names_step_and_time():
     # w h = 3 > sqrt(6): the sweep multiplies the error by -1.5 each time.
     res = splinestep.solve(lambda t, y, yp: -900.0 * y, (0, 1), 1.0, 0.0, 0.1, max_iter=30)
     assert res.status == -1
-    assert res.message.startswith("Step 1 (from t = 0 to t = 0.10000000000000001) failed")
+    assert res.message.startswith("Step 1 (from t = 0 to t = 0.1) failed")
     assert "did not converge in 30 iterations" in res.message
+    assert "smaller h" in res.message and 'iteration="newton"' in res.message
     assert res.nstep == 0 and res.t.tolist() == [0.0]

@@ -3,6 +3,7 @@ the choice between the compiled and the plain-Python loop, and the assembly
 of the result object."""
 
 import numbers
+import warnings
 
 import numpy as np
 from numba.core import types
@@ -10,6 +11,12 @@ from numba.core.registry import CPUDispatcher
 from numba.extending import overload
 
 from .result import OdeResult
+
+# A last step shorter than this fraction of h is merged into the one before
+# (a span that is a multiple of h up to rounding gets no sliver step).
+SLIVER = 1e-9
+# A run of more steps than this gets a warning before it starts.
+MANY_STEPS = 10**8
 
 # Status codes returned by the step loops (the loops cannot raise with a
 # message when compiled, so they report what went wrong as a code).
@@ -28,18 +35,29 @@ _FAILURES = {
 }
 
 
+# What to try when a step fails, appended to the message.
+_HINTS = {
+    NOT_CONVERGED: " Try a smaller h, or iteration=\"newton\" (the fixed-point sweep "
+                   "converges only while h^2/6 |dF/dy| + h/2 |dF/dyp| < 1).",
+    SINGULAR: " Try a smaller h: the step equation may have no solution at this h.",
+    NON_FINITE: " The solution may blow up here, or the step may be too large.",
+}
+
+
 def as_vector(g):
     """The value of ``fun`` as something indexable by component.
 
-    Plain Python: an array (lists, tuples and scalars are converted, so a
-    wrong shape is reported, not raised).  Compiled: the value itself, so a
+    Plain Python: an array (lists, tuples and scalars are converted, a
+    scalar to shape (1,), so a wrong shape is reported, not raised).  Compiled: the value itself, so a
     compiled ``fun`` may return a tuple of floats and spare the allocation of
     an array per evaluation."""
-    return np.asarray(g, dtype=np.float64)
+    return np.atleast_1d(np.asarray(g, dtype=np.float64))
 
 
 @overload(as_vector)
 def _as_vector_compiled(g):
+    if isinstance(g, (types.Float, types.Integer)):
+        return lambda g: (float(g),)  # a scalar is the one component of m = 1
     return lambda g: g
 
 
@@ -54,15 +72,15 @@ def _wrong_length_compiled(g, m):
         if g.ndim != 1:
             return lambda g, m: True
         return lambda g, m: g.shape[0] != m
-    if isinstance(g, types.UniTuple):
+    if isinstance(g, (types.UniTuple, types.List)):
         return lambda g, m: len(g) != m
     return None  # anything else is a numba typing error naming the type
 
 
 def check_state(y0, yp0):
     """Return y0 and yp0 as equal-length, finite float64 vectors."""
-    y0 = np.atleast_1d(np.asarray(y0, dtype=float))
-    yp0 = np.atleast_1d(np.asarray(yp0, dtype=float))
+    y0 = _real_array(y0, "y0")
+    yp0 = _real_array(yp0, "yp0")
     if y0.ndim != 1:
         raise ValueError(f"y0 must be a scalar or a 1-D array, got shape {y0.shape}")
     if yp0.shape != y0.shape:
@@ -75,15 +93,40 @@ def check_state(y0, yp0):
     return y0.copy(), yp0.copy()
 
 
-def check_span(t_span):
-    """Return (t0, tf) as floats with t0 < tf, both finite."""
+def _real_array(value, name):
+    """``value`` as an at-least-1-D float64 array; complex or non-numeric
+    values are a ValueError naming ``name``."""
+    try:
+        array = np.asarray(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number or an array of them") from None
+    if np.iscomplexobj(array):
+        raise ValueError(f"{name} must be real: complex values are not supported "
+                         "(split a complex equation into its real and imaginary parts)")
+    try:
+        return np.atleast_1d(array.astype(float))
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number or an array of them, "
+                         f"got {type(value).__name__}") from None
+
+
+def short(t):
+    """A time for a message: the shortest repr of ``t`` to 10 digits."""
+    return f"{t:.10g}"
+
+
+def check_span(t_span, backward=False):
+    """Return (t0, tf) as finite floats with t0 < tf, or t0 != tf when
+    ``backward`` integration is allowed."""
     try:
         t0, tf = (float(v) for v in t_span)
     except (TypeError, ValueError):
         raise ValueError("t_span must be a pair of numbers (t0, tf)") from None
     if not (np.isfinite(t0) and np.isfinite(tf)):
         raise ValueError(f"t_span must be finite, got ({t0}, {tf})")
-    if not tf > t0:
+    if backward and tf == t0:
+        raise ValueError(f"t_span must be non-empty, got ({t0}, {tf})")
+    if not backward and not tf > t0:
         raise ValueError(f"t_span must be increasing and non-empty, got ({t0}, {tf})")
     return t0, tf
 
@@ -92,62 +135,177 @@ def check_grid(t0, tf, h, knots):
     """Validate the step size or the knots.
 
     Returns ``(h, n, knots)``: a uniform grid is ``t_i = t0 + i h`` for
-    ``i < n`` with ``t_n = tf`` (the last step is shortened when the span is
-    not a multiple of h); ``knots`` is then an empty array.  For explicit
-    knots, ``h`` is their largest spacing.
+    ``i < n`` with ``t_n = tf``; ``h`` carries the direction of
+    integration (negative when tf < t0) and ``knots`` is an empty array.
+    The last step is shortened when the span is not a multiple of h; a
+    last step shorter than ``SLIVER`` h is merged into the one before it,
+    and a step larger than the span becomes one step over the span.  For
+    explicit knots, ``h`` is their largest spacing (signed).
     """
     if (h is None) == (knots is None):
         raise ValueError("give exactly one of h and knots")
+    direction = 1.0 if tf > t0 else -1.0
     if knots is not None:
-        knots = np.asarray(knots, dtype=float)
+        knots = _real_array(knots, "knots")
         if knots.ndim != 1 or knots.size < 2:
             raise ValueError("knots must be a 1-D array of at least two times")
         if not np.all(np.isfinite(knots)):
             raise ValueError("knots must be finite")
-        if not np.all(np.diff(knots) > 0):
-            raise ValueError("knots must be strictly increasing")
+        if not np.all(direction * np.diff(knots) > 0):
+            raise ValueError("knots must be strictly monotonic, in the direction of t_span")
         if knots[0] != t0 or knots[-1] != tf:
             raise ValueError(
                 f"knots must start at t_span[0] = {t0} and end at t_span[1] = {tf}, "
                 f"got {knots[0]} and {knots[-1]}")
-        return float(np.max(np.diff(knots))), knots.size - 1, knots
+        return direction * float(np.max(np.abs(np.diff(knots)))), knots.size - 1, knots
     if not isinstance(h, numbers.Real) or isinstance(h, bool):
         raise ValueError(f"h must be a real number, got {h!r}")
     h = float(h)
     if not np.isfinite(h) or h <= 0:
-        raise ValueError(f"h must be positive and finite, got {h}")
-    span = tf - t0
-    if h > span * (1 + 1e-12):
-        raise ValueError(f"h = {h} is larger than the span {span}")
-    n = int(np.ceil(span / h * (1 - 1e-12)))
-    return h, max(n, 1), np.empty(0)
+        raise ValueError(f"h must be positive and finite, got {h} "
+                         "(the direction of integration comes from t_span)")
+    span = abs(tf - t0)
+    whole = np.floor(span / h)
+    n = int(whole) + (span / h - whole > SLIVER)
+    n = max(n, 1)
+    if n > MANY_STEPS:
+        warnings.warn(f"h = {h:g} over a span of {span:g} makes {n:.3g} steps; this takes "
+                      "long, and storing every knot needs "
+                      f"{24 * n / 2**30:.3g} GiB per component (pass t_eval to store fewer)",
+                      UserWarning, stacklevel=3)
+    return direction * min(h, span), n, np.empty(0)
 
 
 def check_t_eval(t_eval, t0, tf):
     """Return t_eval as a sorted float array inside [t0, tf] (or None)."""
     if t_eval is None:
         return None
-    t_eval = np.atleast_1d(np.asarray(t_eval, dtype=float))
+    t_eval = _real_array(t_eval, "t_eval")
     if t_eval.ndim != 1 or t_eval.size == 0:
         raise ValueError("t_eval must be a non-empty 1-D array")
     if not np.all(np.isfinite(t_eval)):
         raise ValueError("t_eval must be finite")
-    if np.any(np.diff(t_eval) < 0):
-        raise ValueError("t_eval must be sorted in increasing order")
-    if t_eval[0] < t0 or t_eval[-1] > tf:
+    direction = 1.0 if tf >= t0 else -1.0
+    if np.any(direction * np.diff(t_eval) < 0):
+        raise ValueError("t_eval must be sorted in the direction of t_span")
+    if np.any(direction * (t_eval - t0) < 0) or np.any(direction * (t_eval - tf) > 0):
         raise ValueError(f"t_eval must lie within t_span = ({t0}, {tf})")
     return t_eval
 
 
 def check_args(args):
+    """``args`` with numbers as floats and numeric arrays as float arrays, so
+    that ``args=(1,)`` and ``args=(1.0,)`` run the same compiled code."""
     if not isinstance(args, tuple):
         raise ValueError(f"args must be a tuple, got {type(args).__name__}")
-    return args
+    coerced = []
+    for value in args:
+        if isinstance(value, (bool, np.bool_)):
+            coerced.append(value)
+        elif isinstance(value, numbers.Real):
+            coerced.append(float(value))
+        elif isinstance(value, numbers.Complex):
+            raise ValueError("args must be real: complex values are not supported")
+        elif isinstance(value, np.ndarray) and value.dtype.kind in "iuf":
+            coerced.append(np.ascontiguousarray(value, dtype=float))
+        elif isinstance(value, np.ndarray) and value.dtype.kind == "c":
+            raise ValueError("args must be real: complex arrays are not supported")
+        else:
+            coerced.append(value)
+    return tuple(coerced)
+
+
+COMPILED_ARGS = "numbers, numpy arrays, or tuples of them"
+
+
+def check_compiled_args(args):
+    """A ValueError when a compiled ``fun`` is given ``args`` that numba
+    cannot pass (a dict, a list, an object): say what to pass instead."""
+    for value in args:
+        if isinstance(value, tuple):
+            check_compiled_args(value)
+        elif not isinstance(value, (float, bool, np.bool_, np.ndarray, np.number)):
+            raise ValueError(
+                f"args of a compiled fun must be {COMPILED_ARGS}; got a "
+                f"{type(value).__name__} (pass its values as floats or arrays, or use a "
+                "plain-Python fun)")
+
+
+def _describe(value):
+    if value is None:
+        return "None"
+    shape = np.shape(value) if isinstance(value, (np.ndarray, list, tuple)) else None
+    kind = type(value).__name__
+    return f"a {kind} of shape {shape}" if shape is not None else f"a {kind}"
+
+
+def _call_at_start(name, f, t0, y0, yp0, args):
+    """``f(t0, y0, yp0, *args)``; an exception (a numba typing error among
+    them) becomes a ValueError naming ``name``, chained to the original."""
+    try:
+        return f(t0, y0.copy(), yp0.copy(), *args)
+    except Exception as error:
+        raise ValueError(f"{name} raised {type(error).__name__} at t0 = {short(t0)}: "
+                         f"{error}") from error
+
+
+def check_fun(fun, t0, y0, yp0, args):
+    """Call ``fun`` once at the start, from Python, and refuse what no step
+    could use: ``None``, the wrong shape, complex or non-numeric values.
+    A scalar is accepted when m = 1.  Returns the value as an array."""
+    m = y0.shape[0]
+    value = _call_at_start("fun", fun, t0, y0, yp0, args)
+    try:
+        array = np.asarray(value)
+    except (TypeError, ValueError):
+        array = np.asarray(None)
+    if value is None or array.dtype.kind not in "iufcb":
+        raise ValueError(f"fun must return an array of shape ({m},) (the second derivative), "
+                         f"got {_describe(value)}")
+    if array.dtype.kind == "c":
+        raise ValueError("fun returned complex values; only real equations are supported "
+                         "(split a complex equation into its real and imaginary parts)")
+    if array.shape not in ((m,), () if m == 1 else (m,)):
+        raise ValueError(f"fun must return an array of shape ({m},) (the second derivative), "
+                         f"got {_describe(value)}")
+    return np.atleast_1d(array.astype(float))
+
+
+def check_jac(jac, t0, y0, yp0, args):
+    """Call ``jac`` once at the start and check that it returns two finite
+    (m, m) arrays, dF/dy and dF/dyp."""
+    m = y0.shape[0]
+    value = _call_at_start("jac", jac, t0, y0, yp0, args)
+    expected = f"a pair (dF/dy, dF/dyp) of arrays of shape ({m}, {m})"
+    if not isinstance(value, (tuple, list)) or len(value) != 2:
+        raise ValueError(f"jac must return {expected}, got {_describe(value)}")
+    for name, part in zip(("dF/dy", "dF/dyp"), value):
+        part = np.asarray(part)
+        if part.shape != (m, m):
+            raise ValueError(f"jac must return {expected}; its {name} has shape {part.shape}")
+        if part.dtype.kind not in "iuf" or not np.all(np.isfinite(part)):
+            raise ValueError(f"jac must return {expected} of finite real numbers; "
+                             f"its {name} at t0 is not")
 
 
 def is_compiled(f):
     """True when ``f`` is a numba-compiled function (``numba.njit``)."""
     return isinstance(f, CPUDispatcher)
+
+
+def choose_path(fun, jac, args):
+    """"compiled" when ``fun`` (and ``jac``, if any) are numba-compiled,
+    else "plain".  A compiled ``fun`` slowed down by a plain ``jac`` gets a
+    warning; ``args`` a compiled loop cannot take get a ValueError."""
+    if not is_compiled(fun):
+        return "plain"
+    if jac is not None and not is_compiled(jac):
+        warnings.warn("fun is compiled but jac is plain Python, so the whole loop runs as "
+                      "plain Python (about 100 times slower); compile jac with numba.njit "
+                      "too", UserWarning, stacklevel=3)
+        return "plain"
+    check_compiled_args(args)
+    return "compiled"
 
 
 def select_loop(loop, *functions):
@@ -170,12 +328,12 @@ def build_result(out, t_eval, max_iter):
     if status == OK:
         message = "The solver successfully reached the end of the integration interval."
     elif fail_step == 0:
-        message = (f"The initial evaluation at t = {t_fail:.17g} failed: "
+        message = (f"The initial evaluation at t = {short(t_fail)} failed: "
                    f"{_FAILURES[status].format(max_iter=max_iter, m=m)}.")
     else:
-        message = (f"Step {fail_step} (from t = {t_last:.17g} to t = {t_fail:.17g}) "
+        message = (f"Step {fail_step} (from t = {short(t_last)} to t = {short(t_fail)}) "
                    f"failed: {_FAILURES[status].format(max_iter=max_iter, m=m)}. "
-                   f"Returning the {nstep} steps completed before it.")
+                   f"Returning the {nstep} steps completed before it.{_HINTS.get(status, '')}")
     return OdeResult(
         t=t.copy(), y=y.T.copy(), yp=yp.T.copy(), ypp=ypp.T.copy(), sol=None,
         nfev=int(nfev), njev=int(njev), niter=int(niter), nstep=int(nstep),

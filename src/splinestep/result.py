@@ -27,9 +27,22 @@ class OdeResult(OptimizeResult):
         Total number of implicit iterations (fixed-point sweeps or Newton
         updates) over all steps.
     nstep : int
-        Number of steps taken.
+        Number of steps taken (a run stopped by a terminal event may have
+        taken a few past it).
+    t_events, y_events, yp_events : list of ndarray or None
+        For each event function, the times of its zeros and y, y' there
+        (shapes (k,), (k, m), (k, m)); None when no events were given.
+    local_error, local_error_yp : float
+        Spline stepper: the largest estimated local error of one step in y
+        and in y' (max norm), from the jumps of the spline's third
+        derivative (:mod:`splinestep.check`); NaN for fewer than 2 steps.
+    t_local_error : float
+        The knot where ``local_error`` is largest.
+    path : {"compiled", "plain"}
+        Whether the stepping loop ran compiled by numba or as plain Python.
     status : int
-        0 if the end of the span was reached, -1 if the run failed.
+        0 if the end of the span was reached, 1 if a terminal event stopped
+        the run, -1 if the run failed.
     message : str
         Human-readable description of the outcome.
     success : bool
@@ -57,7 +70,7 @@ class SplineSolution:
         d = (ypp[1:] - ypp[:-1]) / (6.0 * h)
         # PPoly wants the highest power first: shape (4, n, m).
         self.ppoly = PPoly(np.stack([d, c, b, a]), knots, extrapolate=False)
-        self.t_min, self.t_max = knots[0], knots[-1]
+        self.t_min, self.t_max = min(knots[0], knots[-1]), max(knots[0], knots[-1])
 
     def __call__(self, t, nu=0):
         t = np.asarray(t, dtype=float)

@@ -187,8 +187,11 @@ def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=()):
     args = _base.check_args(args)
     if not callable(fun):
         raise ValueError("fun must be callable")
-    loop = _base.select_loop(_rk4_loop, fun)
+    path = _base.choose_path(fun, None, args)
+    _base.check_fun(fun, t0, y0, yp0, args)
+    loop = _rk4_loop if path == "compiled" else _rk4_loop.py_func
     out = loop(fun, args, t0, h, n, tf, y0, yp0,
                np.empty(0) if t_eval is None else t_eval, t_eval is None)
     result, _ = _base.build_result(out, t_eval, 0)
+    result.path = path
     return result

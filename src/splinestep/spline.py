@@ -18,10 +18,13 @@ fixed-point iteration (start from d_i = 0, i.e. z = y''_i) or by Newton's
 method.
 """
 
+import warnings
+
 import numpy as np
 from numba import njit
 
-from . import _base
+from . import _base, check
+from .events import check_events, locate
 from ._base import (BAD_SHAPE, NON_FINITE, NOT_CONVERGED, OK, SINGULAR, as_vector,
                     wrong_length)
 from .result import SplineSolution
@@ -31,6 +34,12 @@ Y_WEIGHT = 1.0 / 6.0   # d a_{i+1} / d z = h^2 / 6
 YP_WEIGHT = 0.5        # d b_{i+1} / d z = h / 2
 # Relative step of the finite-difference Jacobian: sqrt(machine epsilon).
 FD_STEP = 1.4901161193847656e-08
+
+# Leading local errors of one step from exact values when y'''' is
+# constant: the step misses h^4 y''''/24 in y and h^3 y''''/12 in y'
+# (Taylor expansion of eqs. 6-7, checked in tests/test_error_estimate.py).
+ERR_Y = 1.0 / 24.0
+ERR_YP = 1.0 / 12.0
 
 ITERATIONS = ("fixed-point", "newton")
 # Loop modes: the iteration, and whether it runs a fixed number of times.
@@ -71,15 +80,26 @@ def _lu_solve(a, b):
 # is given (it recompiles every run) and pickles that function's type into its
 # index, which breaks later processes.  The loop compiles once per process.
 @njit
-def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval,
+def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0, t_eval,
                  store_knots, mode, n_iter, until_converged, tol):
-    """Step from t0 to tf.  Written once for both paths: compiled by numba
-    when ``fun`` is compiled, run as plain Python (``py_func``) otherwise.
-    Component loops over preallocated buffers keep the step free of
-    temporary arrays.
+    """Step from t0 to tf, forwards or backwards (h and the knots carry the
+    direction).  Written once for both paths: compiled by numba when ``fun``
+    is compiled, run as plain Python (``py_func``) otherwise.  Component
+    loops over preallocated buffers keep the step free of temporary arrays.
 
-    Returns (status, fail_step, t_last, t_fail, nfev, njev, niter, nstep,
-    n_knots, n_eval, T, Y, YP, YPP, YE, YPE, YPPE); see ``_base.build_result``.
+    ``ypp0`` (y'' at t0) and ``jerk0`` (the third derivative on the step
+    of size ``dt0`` that ended at t0) are empty for a fresh start; a run
+    continued from an earlier one passes them, so that it continues the same
+    spline and the same error estimate.
+
+    Returns ``(common, estimate)``: ``common`` is (status, fail_step, t_last,
+    t_fail, nfev, njev, niter, nstep, n_knots, n_eval, T, Y, YP, YPP, YE,
+    YPE, YPPE), see ``_base.build_result``; ``estimate`` is (err_y, t_err_y,
+    err_yp, y_scale, yp_scale, y_at_err, yp_at_err, y, yp, ypp, jerk, dt):
+    the largest estimated local errors of y and y' (max norm over components
+    and steps, see ``ERR_Y``), the knot where that of y is largest and the
+    state there, the largest |y| and |y'| met, and the state, second and
+    third derivative and step size at the last knot reached.
     """
     m = y0.shape[0]
     n_out = n + 1 if store_knots else 1
@@ -93,34 +113,60 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval,
     YPPE = np.empty((ne, m))
     y = y0.copy()            # a_i
     yp = yp0.copy()          # b_i
+    ypp = np.zeros(m)        # 2 c_i
+    jerk = np.zeros(m)       # 6 d on the last interval
     base_y = np.empty(m)     # a_{i+1} without the unknown's term
     base_yp = np.empty(m)    # b_{i+1} without the unknown's term
     z = np.empty(m)          # the unknown y''_{i+1} = 2 c_{i+1}
     y_new = np.empty(m)
     yp_new = np.empty(m)
+    y_at_err = y0.copy()
+    yp_at_err = yp0.copy()
     nfev = 0
     njev = 0
     niter = 0
     n_eval = 0
-
-    g = as_vector(fun(t0, y, yp, *args))
-    nfev += 1
-    if wrong_length(g, m):
-        return (BAD_SHAPE, 0, t0, t0, nfev, njev, niter, 0, 0, 0,
-                T, Y, YP, YPP, YE, YPE, YPPE)
-    ypp = np.empty(m)        # 2 c_i
+    direction = 1.0 if tf >= t0 else -1.0
+    err_y = 0.0
+    err_yp = 0.0
+    t_err_y = t0
+    y_scale = 0.0
+    yp_scale = 0.0
     for k in range(m):
-        ypp[k] = g[k]
-        if not abs(g[k]) < np.inf:
-            return (NON_FINITE, 0, t0, t0, nfev, njev, niter, 0, 0, 0,
-                    T, Y, YP, YPP, YE, YPE, YPPE)
+        y_scale = max(y_scale, abs(y[k]))
+        yp_scale = max(yp_scale, abs(yp[k]))
+    have_jerk = jerk0.shape[0] == m
+    dt_prev = dt0
+    if have_jerk:
+        for k in range(m):
+            jerk[k] = jerk0[k]
+
+    status = OK
+    if ypp0.shape[0] == m:
+        for k in range(m):
+            ypp[k] = ypp0[k]
+    else:
+        g = as_vector(fun(t0, y, yp, *args))
+        nfev += 1
+        if wrong_length(g, m):
+            status = BAD_SHAPE
+        else:
+            for k in range(m):
+                ypp[k] = g[k]
+                if not abs(g[k]) < np.inf:
+                    status = NON_FINITE
+    if status != OK:
+        return ((status, 0, t0, t0, nfev, njev, niter, 0, 0, 0,
+                 T, Y, YP, YPP, YE, YPE, YPPE),
+                (err_y, t_err_y, err_yp, y_scale, yp_scale, y_at_err, yp_at_err,
+                 y, yp, ypp, jerk, dt_prev))
     T[0] = t0
     for k in range(m):
         Y[0, k] = y[k]
         YP[0, k] = yp[k]
         YPP[0, k] = ypp[k]
     n_knots = 1
-    while n_eval < ne and t_eval[n_eval] <= t0:
+    while n_eval < ne and direction * (t_eval[n_eval] - t0) <= 0.0:
         for k in range(m):
             YE[n_eval, k] = y[k]
             YPE[n_eval, k] = yp[k]
@@ -138,7 +184,7 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval,
         dt = t_new - t
         wy = Y_WEIGHT * dt * dt
         wyp = YP_WEIGHT * dt
-        w_max = max(wy, wyp)
+        w_max = max(wy, abs(wyp))
         for k in range(m):
             base_y[k] = y[k] + dt * yp[k] + (dt * dt / 3.0) * ypp[k]
             base_yp[k] = yp[k] + wyp * ypp[k]
@@ -206,12 +252,18 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval,
             if until_converged and w_max * change <= tol * size:
                 status = OK
                 break
+        if status == OK:
+            for k in range(m):
+                if not abs(base_y[k] + wy * z[k]) < np.inf:
+                    status = NON_FINITE
         if status != OK:
-            return (status, i + 1, t, t_new, nfev, njev, niter, i, n_knots, n_eval,
-                    T, Y, YP, YPP, YE, YPE, YPPE)
+            return ((status, i + 1, t, t_new, nfev, njev, niter, i, n_knots, n_eval,
+                     T, Y, YP, YPP, YE, YPE, YPPE),
+                    (err_y, t_err_y, err_yp, y_scale, yp_scale, y_at_err, yp_at_err,
+                     y, yp, ypp, jerk, dt_prev))
 
         # Report at the requested times inside (t, t_new] from the cubic itself.
-        while n_eval < ne and t_eval[n_eval] <= t_new:
+        while n_eval < ne and direction * (t_eval[n_eval] - t_new) <= 0.0:
             s = t_eval[n_eval] - t
             for k in range(m):
                 d = (z[k] - ypp[k]) / (6.0 * dt)
@@ -219,10 +271,32 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval,
                 YPE[n_eval, k] = yp[k] + s * (ypp[k] + 3.0 * s * d)
                 YPPE[n_eval, k] = ypp[k] + 6.0 * s * d
             n_eval += 1
+        # Local error estimate: y''' is constant on each interval, so its
+        # jump at the knot t over the mean of the two steps estimates y''''.
+        ey = 0.0
+        eyp = 0.0
+        for k in range(m):
+            new_jerk = (z[k] - ypp[k]) / dt
+            if have_jerk:
+                y4 = abs(new_jerk - jerk[k]) / abs(0.5 * (dt + dt_prev))
+                ey = max(ey, ERR_Y * (dt * dt) * (dt * dt) * y4)
+                eyp = max(eyp, ERR_YP * abs(dt * dt * dt) * y4)
+            jerk[k] = new_jerk
+        if ey > err_y:
+            err_y = ey
+            t_err_y = t
+            for k in range(m):
+                y_at_err[k] = y[k]
+                yp_at_err[k] = yp[k]
+        err_yp = max(err_yp, eyp)
+        have_jerk = True
+        dt_prev = dt
         for k in range(m):
             y[k] = base_y[k] + wy * z[k]
             yp[k] = base_yp[k] + wyp * z[k]
             ypp[k] = z[k]
+            y_scale = max(y_scale, abs(y[k]))
+            yp_scale = max(yp_scale, abs(yp[k]))
         t = t_new
         if store_knots:
             T[n_knots] = t
@@ -231,11 +305,13 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval,
                 YP[n_knots, k] = yp[k]
                 YPP[n_knots, k] = ypp[k]
             n_knots += 1
-    return (OK, -1, t, t, nfev, njev, niter, n, n_knots, n_eval,
-            T, Y, YP, YPP, YE, YPE, YPPE)
+    return ((OK, -1, t, t, nfev, njev, niter, n, n_knots, n_eval,
+             T, Y, YP, YPP, YE, YPE, YPPE),
+            (err_y, t_err_y, err_yp, y_scale, yp_scale, y_at_err, yp_at_err,
+             y, yp, ypp, jerk, dt_prev))
 
 
-def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(),
+def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), events=None,
           iteration="fixed-point", iterations=None, tol=1e-12, max_iter=50,
           jac=None, dense_output=False):
     """Solve y'' = F(t, y, y') by cubic-spline time stepping.
@@ -248,31 +324,43 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(),
     Parameters
     ----------
     fun : callable
-        ``fun(t, y, yp, *args) -> y''``, with y, yp and the result arrays of
-        shape (m,).  When ``fun`` is a ``numba.njit`` function, the whole
-        stepping loop runs compiled; a compiled ``fun`` may also return a
-        tuple of m floats, which spares an array allocation per evaluation
-        (about half the cost of a small right-hand side).
+        ``fun(t, y, yp, *args) -> y''``, with y and yp arrays of shape (m,);
+        it returns an array of shape (m,), a list or a tuple of m numbers,
+        or a number when m = 1.  When ``fun`` is a ``numba.njit``
+        function, the whole stepping loop runs compiled (see the README's
+        "The fast path"); a compiled ``fun`` that returns a tuple spares an
+        array allocation per evaluation.
     t_span : (float, float)
-        Interval of integration (t0, tf), t0 < tf.
+        Interval of integration (t0, tf); tf < t0 integrates backwards.
     y0, yp0 : float or array_like, shape (m,)
-        Initial value and initial first derivative.
+        Initial value and initial first derivative (real).
     h : float, optional
-        Uniform step.  When tf - t0 is not a multiple of h, the last step is
-        shortened to end exactly at tf.
+        Uniform step (positive; the direction comes from ``t_span``).  When
+        the span is not a multiple of h, the last step is shortened to end
+        exactly at tf; a last step shorter than 1e-9 h is merged into the
+        one before, and an h larger than the span gives one step.
     knots : array_like, optional
-        Non-uniform knots t0 = knots[0] < ... < knots[-1] = tf (instead of h).
+        Knots t0 = knots[0], ..., knots[-1] = tf, strictly monotonic
+        (instead of h).
     t_eval : array_like, optional
-        Sorted times in t_span at which to report the solution, evaluated
-        from the spline; the knots are then not stored.
+        Times in t_span, sorted in the direction of integration, at which to
+        report the solution, evaluated from the spline; the knots are then
+        not stored.
     args : tuple, optional
-        Extra arguments passed to ``fun`` and ``jac``.
+        Extra arguments passed to ``fun``, ``jac`` and the events.  Numbers
+        are passed as floats and numeric arrays as float arrays.
+    events : callable or list of callables, optional
+        Functions ``g(t, y, yp, *args)`` whose zeros are located on the
+        spline, with the optional attributes ``terminal`` and ``direction``
+        of scipy's ``solve_ivp`` (see :mod:`splinestep.events`).
     iteration : {"fixed-point", "newton"}
         How the step equation is solved.  "fixed-point" is the report's
         scheme; it converges when h^2/6 |dF/dy| + h/2 |dF/dy'| < 1.
         "newton" uses Newton's method with an LU solve of
-        I - h^2/6 dF/dy - h/2 dF/dy'; it is exact in one iteration on
-        linear problems.
+        I - h^2/6 dF/dy - h/2 dF/dy' (exact ``jac``, or finite differences
+        at m evaluations of F per iteration).  On a linear problem its first
+        iteration solves the step equation to rounding error, and a second
+        one confirms it, so a converged step costs 2 iterations.
     iterations : int, optional
         Exactly this many iterations per step, with no convergence test
         (the report's "a few times").  By default iterate until converged.
@@ -285,18 +373,28 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(),
         ``iterations`` is None).
     jac : callable, optional
         ``jac(t, y, yp, *args) -> (dF/dy, dF/dyp)``, two (m, m) arrays, used
-        by Newton's method; finite differences otherwise.
+        by Newton's method (finite differences otherwise); unused, with a
+        warning, by the fixed-point iteration.
     dense_output : bool
         Return the spline itself as ``sol``.
 
     Returns
     -------
     OdeResult
-        ``t`` (k,), ``y``, ``yp``, ``ypp`` (m, k), ``sol``, ``nfev``,
-        ``njev``, ``niter``, ``nstep``, ``status`` (0 reached the end, -1
+        ``t`` (k,), ``y``, ``yp``, ``ypp`` (m, k), ``sol``, ``t_events``,
+        ``y_events``, ``yp_events``, ``nfev``, ``njev``, ``niter``,
+        ``nstep``, ``local_error``, ``local_error_yp``, ``t_local_error``,
+        ``path``, ``status`` (0 reached the end, 1 a terminal event, -1
         failed), ``message``, ``success``.  A failed run returns the steps
         completed before the failure and says in ``message`` which step
         failed and why.
+
+    Warns
+    -----
+    UserWarning
+        When the run's own error estimate says that the step is far too
+        large for the solution (see :mod:`splinestep.check`); the message
+        then says so too.
 
     References
     ----------
@@ -313,7 +411,7 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(),
     >>> bool(abs(res.y[0, -1] + 1) < 1e-3)
     True
     """
-    t0, tf = _base.check_span(t_span)
+    t0, tf = _base.check_span(t_span, backward=True)
     y0, yp0 = _base.check_state(y0, yp0)
     h, n, knots = _base.check_grid(t0, tf, h, knots)
     t_eval = _base.check_t_eval(t_eval, t0, tf)
@@ -331,16 +429,142 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(),
         raise ValueError("fun must be callable")
     if jac is not None and not callable(jac):
         raise ValueError("jac must be callable or None")
-
     mode = FIXED_POINT if iteration == "fixed-point" else NEWTON
+    if jac is not None and mode == FIXED_POINT:
+        warnings.warn("jac is not used by the fixed-point iteration; pass "
+                      "iteration=\"newton\" to use it", UserWarning, stacklevel=2)
+        jac = None
+    events = check_events(events, args)
+    path = _base.choose_path(fun, jac, args)
+    _base.check_fun(fun, t0, y0, yp0, args)
+    if jac is not None:
+        _base.check_jac(jac, t0, y0, yp0, args)
+    loop = _spline_loop if path == "compiled" else _spline_loop.py_func
+
     until_converged = iterations is None
     n_iter = max_iter if until_converged else iterations
-    store_knots = t_eval is None or dense_output
-    loop = _base.select_loop(_spline_loop, fun, jac)
-    out = loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0,
-               np.empty(0) if t_eval is None else t_eval,
-               store_knots, mode, int(n_iter), until_converged, float(tol))
+    settings = (mode, int(n_iter), until_converged, float(tol))
+    store_knots = t_eval is None or dense_output or bool(events)
+    t_eval_all = _EMPTY if t_eval is None else t_eval
+    if not any(ev.max_count for ev in events):
+        out, estimate = loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, _EMPTY, _EMPTY,
+                             0.0, t_eval_all, store_knots, *settings)
+        terminal = None
+    else:
+        out, estimate, terminal = _run_until_terminal(
+            loop, fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval_all, events, settings)
     result, knot_values = _base.build_result(out, t_eval, n_iter)
+    if events and terminal is None:
+        T, Y, YP, YPP = knot_values
+        locate(events, T, Y, YP, YPP)
+    if terminal is not None:
+        result, knot_values = _cut_at(result, knot_values, t_eval, terminal)
+    if events:
+        m = y0.size
+        result.t_events = [np.array(ev.times) for ev in events]
+        result.y_events = [np.array([s[0] for s in ev.states]).reshape(-1, m) for ev in events]
+        result.yp_events = [np.array([s[1] for s in ev.states]).reshape(-1, m) for ev in events]
+    else:
+        result.t_events = result.y_events = result.yp_events = None
     if dense_output and knot_values[0].size >= 2:
         result.sol = SplineSolution(*knot_values)
+    result.path = path
+    check.report(result, estimate, fun, jac, args, h, t0, y0, yp0, Y_WEIGHT, YP_WEIGHT)
     return result
+
+
+_EMPTY = np.empty(0)
+# Steps in the first piece of a run with a terminal event; each later piece
+# doubles, up to MAX_PIECE, so a run that stops early computes little past
+# its event and a long run makes few calls.
+FIRST_PIECE = 256
+MAX_PIECE = 65536
+
+
+def _run_until_terminal(loop, fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval, events,
+                        settings):
+    """Run the loop piece by piece, each continuing the same spline (its
+    knots, y'' and error estimate carried over), and look for the events'
+    zeros after each piece; stop after the piece holding a terminal zero.
+
+    Returns (out, estimate, terminal) as the loop would for the whole run,
+    with ``terminal`` = (t, y, yp, ypp) of the terminal event or None.
+    """
+    direction = 1.0 if tf > t0 else -1.0
+    pieces, ests = [], []
+    start, size = 0, FIRST_PIECE
+    t_a, y_a, yp_a, ypp_a, jerk_a, dt_a = t0, y0, yp0, _EMPTY, _EMPTY, 0.0
+    g_first, terminal = None, None
+    while True:
+        stop = min(start + size, n)
+        if knots.size:
+            piece = knots[start:stop + 1]
+        else:
+            piece = t0 + np.arange(start, stop + 1) * h
+            piece[0] = t_a
+            if stop == n:
+                piece[-1] = tf
+        ahead = direction * (t_eval - t_a)
+        mine = t_eval[((ahead > 0) | ((ahead == 0) & (start == 0)))
+                      & (direction * (t_eval - piece[-1]) <= 0)]
+        out, est = loop(fun, args, jac, t_a, h, stop - start, piece, piece[-1], y_a, yp_a,
+                        ypp_a, jerk_a, dt_a, mine, True, *settings)
+        pieces.append((start, out))
+        ests.append(est)
+        n_knots = out[8]
+        index, t_ev, y_ev, yp_ev, ypp_ev, g_first = locate(
+            events, out[10][:n_knots], out[11][:n_knots], out[12][:n_knots],
+            out[13][:n_knots], g_first)
+        if index is not None:
+            terminal = (t_ev, y_ev, yp_ev, ypp_ev)
+            break
+        if out[0] != OK or stop == n:
+            break
+        y_a, yp_a, ypp_a, jerk_a, dt_a = est[7], est[8], est[9], est[10], est[11]
+        t_a, start, size = piece[-1], stop, min(2 * size, MAX_PIECE)
+    return _joined(pieces), _joined_estimate(ests), terminal
+
+
+def _joined(pieces):
+    """One loop output from consecutive pieces (the first knot of each later
+    piece is the last of the one before)."""
+    last = pieces[-1][1]
+    offset = pieces[-1][0]
+    status, fail_step, t_last, t_fail = last[0], last[1], last[2], last[3]
+    if fail_step > 0:
+        fail_step += offset
+    totals = [sum(out[k] for _, out in pieces) for k in (4, 5, 6, 7)]
+    rows = [[out[k][:out[8]] if j == 0 else out[k][1:out[8]] for j, (_, out)
+             in enumerate(pieces)] for k in (10, 11, 12, 13)]
+    T, Y, YP, YPP = (np.concatenate(parts) for parts in rows)
+    evals = [np.concatenate([out[k][:out[9]] for _, out in pieces]) for k in (14, 15, 16)]
+    return (status, fail_step, t_last, t_fail, *totals, T.size, evals[0].shape[0],
+            T, Y, YP, YPP, *evals)
+
+
+def _joined_estimate(ests):
+    """The error estimate of consecutive pieces: the largest of each."""
+    worst = max(ests, key=lambda e: e[0])
+    return (worst[0], worst[1], max(e[2] for e in ests), max(e[3] for e in ests),
+            max(e[4] for e in ests), worst[5], worst[6], *ests[-1][7:])
+
+
+def _cut_at(result, knot_values, t_eval, terminal):
+    """The result ended at a terminal event: knots (or t_eval points) up to
+    it, and the event's own point as the last knot."""
+    t_ev, y_ev, yp_ev, ypp_ev = terminal
+    T, Y, YP, YPP = knot_values
+    direction = 1.0 if T[-1] >= T[0] else -1.0
+    keep = direction * (T - t_ev) < 0
+    T = np.append(T[keep], t_ev)
+    Y, YP, YPP = (np.vstack([v[keep], w]) for v, w in ((Y, y_ev), (YP, yp_ev), (YPP, ypp_ev)))
+    if t_eval is None:
+        result.t, result.y, result.yp, result.ypp = T.copy(), Y.T.copy(), YP.T.copy(), YPP.T.copy()
+    else:
+        keep_eval = direction * (result.t - t_ev) <= 0
+        result.t = result.t[keep_eval]
+        result.y, result.yp, result.ypp = (v[:, keep_eval] for v in
+                                           (result.y, result.yp, result.ypp))
+    result.status, result.success = 1, True
+    result.message = f"A termination event occurred at t = {_base.short(t_ev)}."
+    return result, (T, Y, YP, YPP)

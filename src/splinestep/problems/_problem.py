@@ -59,7 +59,7 @@ class Problem:
         solvers = {"spline": solve, "rk4": rk4}
         if method not in solvers:
             raise ValueError(f"method must be one of {tuple(solvers)}, got {method!r}")
-        if method == "spline" and "jac" not in kwargs:
+        if method == "spline" and kwargs.get("iteration") == "newton" and "jac" not in kwargs:
             kwargs["jac"] = self.jac
         return solvers[method](self.fun, self.t_span, self.y0, self.yp0,
                                self.h if h is None else h, args=self.args, **kwargs)

@@ -1,0 +1,133 @@
+"""What a run of the spline stepper can tell about its own accuracy.
+
+A fixed step cannot promise accuracy, but the spline knows when the step is
+far past what the solution supports, in two ways:
+
+1. The local error estimate.  y''' is constant on each interval of the
+   spline, so its jump at a knot, divided by the mean of the two steps,
+   estimates y''''; one step from exact values misses h^4 y''''/24 in y and
+   h^3 y''''/12 in y' (``spline.ERR_Y``, ``spline.ERR_YP``).  Every run
+   reports the largest of these estimates and where.  When it exceeds
+   :data:`LOCAL_FRACTION` of the largest |y| (or |y'|) of the run, the
+   step cannot resolve the solution.
+
+2. The linearised step.  Freezing the Jacobians A = dF/dy and B = dF/dy'
+   at a state gives the linear equation y'' = A y + B y'; one step of the
+   method multiplies (y, y') by an amplification matrix M, and the exact
+   flow by exp(h L) with L = [[0, I], [A, B]].  When the spectral radius of M
+   exceeds both 1 and that of exp(h L) by more than :data:`GROWTH_MARGIN`,
+   the step amplifies what the equation does not: on y'' = -omega^2 y this
+   happens exactly beyond omega h = sqrt(12).  Checked at the initial
+   state, the state where the estimated local error is largest and the
+   final state.
+
+Either finding is a ``UserWarning`` and a sentence in the result's
+``message``; the run keeps its status, since the numbers are what the
+method computed.
+"""
+
+import warnings
+
+import numpy as np
+
+from . import _base
+
+# The estimated local error, as a fraction of the run's largest |y| (or
+# |y'|), above which the step does not resolve the solution.  Accurate runs
+# sit many decades below it (tests/test_check.py measures the notebooks' runs).
+LOCAL_FRACTION = 0.1
+# Relative growth per step of the linearised step beyond the equation's own.
+GROWTH_MARGIN = 1e-3
+# Relative step of the finite-difference Jacobians.
+FD_STEP = 1.4901161193847656e-08
+
+
+def jacobians(fun, jac, args, t, y, yp):
+    """(dF/dy, dF/dy') at (t, y, y'): from ``jac``, or by forward differences."""
+    if jac is not None:
+        fy, fyp = jac(t, y.copy(), yp.copy(), *args)
+        return np.asarray(fy, dtype=float), np.asarray(fyp, dtype=float)
+    m = y.size
+    g = np.atleast_1d(np.asarray(fun(t, y.copy(), yp.copy(), *args), dtype=float))
+    fy, fyp = np.empty((m, m)), np.empty((m, m))
+    for k in range(m):
+        for x, d in ((y, fy), (yp, fyp)):
+            step = FD_STEP * max(1.0, abs(x[k]))
+            shifted = x.copy()
+            shifted[k] += step
+            args_k = (shifted, yp) if x is y else (y, shifted)
+            value = fun(t, args_k[0].copy(), args_k[1].copy(), *args)
+            d[:, k] = (np.atleast_1d(np.asarray(value, dtype=float)) - g) / step
+    return fy, fyp
+
+
+def amplification(fy, fyp, h, y_weight, yp_weight):
+    """The matrix M with (y, y')_{n+1} = M (y, y')_n for one step of size h
+    on y'' = fy y + fyp y' (the method's eqs. 6-9 with y'' = F at every
+    knot)."""
+    m = fy.shape[0]
+    eye, zero = np.eye(m), np.zeros((m, m))
+    p = np.hstack([fy, fyp])                               # y''_n = p (y, y')_n
+    base_y = np.hstack([eye, h * eye]) + (h * h / 3.0) * p
+    base_yp = np.hstack([zero, eye]) + (h / 2.0) * p
+    k = eye - y_weight * h * h * fy - yp_weight * h * fyp
+    z = np.linalg.solve(k, fy @ base_y + fyp @ base_yp)     # y''_{n+1}
+    return np.vstack([base_y + y_weight * h * h * z, base_yp + yp_weight * h * z])
+
+
+def growth(fy, fyp, h, y_weight, yp_weight):
+    """(rho of the step's amplification matrix, rho of the exact flow over h)."""
+    m = fy.shape[0]
+    flow = np.block([[np.zeros((m, m)), np.eye(m)], [fy, fyp]])
+    exact = float(np.exp(abs(h) * np.max(np.linalg.eigvals(flow).real)))
+    try:
+        step = float(np.max(np.abs(np.linalg.eigvals(
+            amplification(fy, fyp, h, y_weight, yp_weight)))))
+    except np.linalg.LinAlgError:
+        step = np.inf
+    return step, exact
+
+
+def report(result, estimate, fun, jac, args, h, t0, y0, yp0, y_weight, yp_weight):
+    """Attach the run's error estimate to ``result`` and warn (in a
+    ``UserWarning`` and in ``result.message``) when the step is far too large
+    for the solution."""
+    err_y, t_err, err_yp, y_scale, yp_scale, y_at_err, yp_at_err = estimate[:7]
+    y_end, yp_end = estimate[7], estimate[8]
+    estimated = result.nstep >= 2
+    result.local_error = float(err_y) if estimated else np.nan
+    result.local_error_yp = float(err_yp) if estimated else np.nan
+    result.t_local_error = float(t_err) if estimated else np.nan
+    if result.nstep == 0:
+        return
+    findings = []
+    if estimated and (err_y > LOCAL_FRACTION * y_scale or err_yp > LOCAL_FRACTION * yp_scale):
+        findings.append(
+            f"the estimated local error ({err_y:.2g} in y, {err_yp:.2g} in y', largest at "
+            f"t = {_base.short(t_err)}) exceeds {LOCAL_FRACTION:g} of the solution's size "
+            f"(max |y| = {y_scale:.3g}, max |y'| = {yp_scale:.3g})")
+    t_end = result.t[-1] if result.t.size else t0
+    for where, t, y, yp in (("initial", t0, y0, yp0), ("largest-error", t_err, y_at_err,
+                                                       yp_at_err), ("final", t_end, y_end,
+                                                                    yp_end)):
+        if not (np.all(np.isfinite(y)) and np.all(np.isfinite(yp))):
+            continue
+        try:
+            fy, fyp = jacobians(fun, jac, args, t, y, yp)
+        except (ArithmeticError, ValueError):
+            continue
+        if not (np.all(np.isfinite(fy)) and np.all(np.isfinite(fyp))):
+            continue
+        rho, rho_exact = growth(fy, fyp, h, y_weight, yp_weight)
+        if rho > max(1.0, rho_exact) * (1.0 + GROWTH_MARGIN):
+            findings.append(
+                f"at the {where} state (t = {_base.short(t)}) one step of the linearised "
+                f"equation grows by {rho:.3g} where the equation grows by {rho_exact:.3g} "
+                "(the step is past the method's stability limit, omega h = sqrt(12) "
+                "for an oscillation)")
+            break
+    if findings:
+        text = ("The step is too large for this solution: " + "; ".join(findings)
+                + ". Try a smaller h.")
+        result.message = f"{result.message} {text}"
+        warnings.warn(text, UserWarning, stacklevel=3)
