@@ -19,6 +19,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -93,8 +94,10 @@ def main():
                                           (span[1] - span[0]) / n, args=problem.args,
                                           t_eval=t_eval)
 
-        spline(problem.fun, 10)()  # compile outside the timing
-        rk4(problem.fun, 10)()
+        with warnings.catch_warnings():  # 10 steps are far too large: only to compile
+            warnings.simplefilter("ignore")
+            spline(problem.fun, 10)()  # compile outside the timing
+            rk4(problem.fun, 10)()
         for label, run, n, repeats in (
                 ("splinestep compiled", spline(problem.fun, COMPILED_STEPS), COMPILED_STEPS, REPEATS),
                 ("splinestep plain Python", spline(problem.fun.py_func, PLAIN_STEPS), PLAIN_STEPS, 3),
