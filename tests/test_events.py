@@ -185,3 +185,9 @@ def test_backward_with_t_eval_and_events():
     assert np.allclose(res.t_events[0], zeros[zeros < 10][::-1], atol=1e-5)
     with pytest.raises(ValueError, match="t_eval"):
         splinestep.solve(lambda t, y, yp: -y, (10.0, 0.0), 1.0, 0.0, 0.1, t_eval=[0.0, 5.0])
+
+
+def test_events_on_a_run_that_fails_at_its_start():
+    res = splinestep.solve(lambda t, y, yp: np.full_like(y, np.nan), (0, 1), 1.0, 0.0, 0.1,
+                           events=ground)
+    assert res.status == -1 and res.t_events[0].size == 0

@@ -107,6 +107,8 @@ def locate(events, T, Y, YP, YPP, g_first=None):
     terminal event (``index`` None if none) and the events' values at the
     last knot scanned.
     """
+    if T.size == 0:  # the run failed at its start
+        return (None, None, None, None, None, g_first)
     g_old = [ev(T[0], Y[0], YP[0]) for ev in events] if g_first is None else list(g_first)
     for i in range(1, T.size):
         g_new = [ev(T[i], Y[i], YP[i]) for ev in events]
