@@ -3,6 +3,7 @@ is wrong says so; both paths accept the same right-hand sides; every bad
 input named in the docs is a ValueError naming the argument."""
 
 import math
+import re
 import warnings
 
 import numpy as np
@@ -162,14 +163,13 @@ def test_args_a_compiled_loop_cannot_take_are_a_value_error():
 
 
 @pytest.mark.parametrize("jac, match", [
-    (lambda t, y, yp: (np.zeros((1, 1)), np.zeros((1, 1))), r"dF/dy has shape \(1, 1\)"),
-    (lambda t, y, yp: (np.zeros(2), np.zeros((2, 2))), r"dF/dy has shape \(2,\)"),
-    (lambda t, y, yp: (np.zeros((2, 2)), np.zeros((3, 3))), r"dF/dyp has shape \(3, 3\)"),
-    (lambda t, y, yp: np.zeros((2, 2)), "a pair"),
-    (lambda t, y, yp: (np.full((2, 2), np.nan), np.zeros((2, 2))), "finite")])
+    (lambda t, y, yp: (np.zeros((1, 1)), np.zeros((1, 1))), "dF/dy has shape (1, 1)"),
+    (lambda t, y, yp: (np.zeros(2), np.zeros((2, 2))), "dF/dy has shape (2,)"),
+    (lambda t, y, yp: (np.zeros((2, 2)), np.zeros((3, 3))), "dF/dyp has shape (3, 3)"),
+    (lambda t, y, yp: np.zeros((2, 2)), "got a ndarray of shape (2, 2)"),
+    (lambda t, y, yp: (np.full((2, 2), np.nan), np.zeros((2, 2))), "of finite real numbers")])
 def test_jac_is_checked_at_t0(jac, match):
-    with pytest.raises(ValueError, match="jac must return.*" + match.replace("(", r"\(")
-                       if "\\" not in match else "jac must return.*" + match):
+    with pytest.raises(ValueError, match="jac must return .*" + re.escape(match)):
         splinestep.solve(lambda t, y, yp: -y, (0, 1), [1.0, 0.0], [0.0, 1.0], 0.1,
                          iteration="newton", jac=jac)
 
@@ -230,7 +230,6 @@ def test_messages_use_short_times():
 
 def test_the_readme_examples_run():
     """The README's code blocks, run in order in one namespace."""
-    import re
     from pathlib import Path
     text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
     blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)

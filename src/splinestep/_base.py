@@ -15,6 +15,8 @@ from .result import OdeResult
 # A last step shorter than this fraction of h is merged into the one before
 # (a span that is a multiple of h up to rounding gets no sliver step).
 SLIVER = 1e-9
+# Relative step of the finite-difference Jacobians: sqrt(machine epsilon).
+FD_STEP = 1.4901161193847656e-08
 # A run of more steps than this gets a warning before it starts.
 MANY_STEPS = 10**8
 
@@ -306,14 +308,6 @@ def choose_path(fun, jac, args):
         return "plain"
     check_compiled_args(args)
     return "compiled"
-
-
-def select_loop(loop, *functions):
-    """The compiled loop when every user function is compiled, else its
-    plain-Python source (the same code, run by the interpreter)."""
-    if all(f is None or is_compiled(f) for f in functions):
-        return loop
-    return loop.py_func
 
 
 def build_result(out, t_eval, max_iter):

@@ -31,6 +31,7 @@ import warnings
 import numpy as np
 
 from . import _base
+from ._base import FD_STEP
 
 # The estimated local error, as a fraction of the run's largest |y| (or
 # |y'|), above which the step does not resolve the solution.  Accurate runs
@@ -38,8 +39,6 @@ from . import _base
 LOCAL_FRACTION = 0.1
 # Relative growth per step of the linearised step beyond the equation's own.
 GROWTH_MARGIN = 1e-3
-# Relative step of the finite-difference Jacobians.
-FD_STEP = 1.4901161193847656e-08
 
 
 def jacobians(fun, jac, args, t, y, yp):

@@ -25,15 +25,13 @@ from numba import njit
 
 from . import _base, check
 from .events import check_events, locate
-from ._base import (BAD_SHAPE, NON_FINITE, NOT_CONVERGED, OK, SINGULAR, as_vector,
+from ._base import (BAD_SHAPE, FD_STEP, NON_FINITE, NOT_CONVERGED, OK, SINGULAR, as_vector,
                     wrong_length)
 from .result import SplineSolution
 
 # The two coefficients of the unknown z in eqs. 6-7, as multiples of h^2 and h.
 Y_WEIGHT = 1.0 / 6.0   # d a_{i+1} / d z = h^2 / 6
 YP_WEIGHT = 0.5        # d b_{i+1} / d z = h / 2
-# Relative step of the finite-difference Jacobian: sqrt(machine epsilon).
-FD_STEP = 1.4901161193847656e-08
 
 # Leading local errors of one step from exact values when y'''' is
 # constant: the step misses h^4 y''''/24 in y and h^3 y''''/12 in y'
