@@ -32,13 +32,18 @@ $(STAMP): environment.txt pyproject.toml
 	touch $(STAMP)
 
 reproduce: $(STAMP)
-	$(BIN)/python scripts/reproduce.py
+	SPLINESTEP_JOBS=$(JOBS) $(BIN)/python scripts/reproduce.py
+
+# Notebooks run at once by make reproduce, and pytest-xdist workers of make
+# test (each notebook's cells stay on one worker).
+JOBS ?= 2
+PYTEST := $(BIN)/python -m pytest -n $(JOBS) --dist loadfile --no-loadscope-reorder
 
 test: $(STAMP)
-	$(BIN)/python -m pytest
+	$(PYTEST)
 
 test-emulated: $(STAMP)
-	$(EMULATED_CPU) $(BIN)/python -m pytest
+	$(EMULATED_CPU) $(PYTEST)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/speed.py

@@ -1,11 +1,17 @@
 """Regenerate everything (or, given file-name prefixes such as ``02 04``, those
-notebooks): execute every notebook in order (rewriting its
-.ipynb outputs, data/ and figures/), one line per notebook with its wall
-time, then print the claims table.  A failing notebook stops the run."""
+notebooks): execute every notebook (rewriting its .ipynb outputs, data/ and
+figures/), one line per notebook with its wall time, then print the claims
+table.  A failing notebook stops the run.
+
+The notebooks are independent, except those in ``LAST``, which read what the
+others write and run after them.  The others run ``JOBS`` at a time (each in
+its own kernel); the lines are printed in the notebooks' order whatever
+order they finish in."""
 
 import os
 import sys
 import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import jupytext
@@ -14,6 +20,10 @@ from nbclient.exceptions import CellExecutionError
 
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.py"))
+# Notebooks that read the data the others write: run after all the others.
+LAST = ("05_claims_and_errata",)
+# Notebooks run at the same time (each kernel is one process).
+JOBS = int(os.environ.get("SPLINESTEP_JOBS", "2"))
 KERNELSPEC = {"name": "python3", "display_name": "Python 3 (ipykernel)", "language": "python"}
 README = ROOT / "README.md"
 # README sections written from data/ by `make reproduce`: marker name -> CSV.
@@ -52,29 +62,48 @@ def execute(script, output_root=None):
         env["SPLINESTEP_OUTPUT"] = str(output_root)
     client = NotebookClient(notebook, timeout=600, kernel_name="python3", record_timing=False,
                             resources={"metadata": {"path": str(script.parent)}})
-    old = dict(os.environ)
-    os.environ.update(env)
-    try:
-        client.execute()
-    finally:
-        os.environ.clear()
-        os.environ.update(old)
+    client.execute(env=env)
     return notebook
+
+
+def _timed(script, output_root):
+    start = time.perf_counter()
+    try:
+        return execute(script, output_root), None, time.perf_counter() - start
+    except CellExecutionError as error:
+        return None, error, time.perf_counter() - start
+
+
+def execute_all(scripts, output_root=None, jobs=JOBS):
+    """Execute ``scripts``, ``jobs`` at a time, those in ``LAST`` after the
+    others.  Yields (script, notebook, error, seconds) in the order of
+    ``scripts``; after an error nothing more is yielded (and nothing more
+    started)."""
+    first = [s for s in scripts if s.stem not in LAST]
+    last = [s for s in scripts if s.stem in LAST]
+    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        for group in (first, last):
+            futures = [pool.submit(_timed, s, output_root) for s in group]
+            for script, future in zip(group, futures):
+                notebook, error, seconds = future.result()
+                yield script, notebook, error, seconds
+                if error is not None:
+                    for other in futures:
+                        other.cancel()
+                    return
 
 
 def main(names=()):
     """Run every notebook, or those whose file names start with one of ``names``."""
     total = time.perf_counter()
-    for script in [s for s in NOTEBOOKS if not names or s.name.startswith(tuple(names))]:
-        start = time.perf_counter()
-        try:
-            notebook = execute(script)
-        except CellExecutionError as error:
+    scripts = [s for s in NOTEBOOKS if not names or s.name.startswith(tuple(names))]
+    for script, notebook, error, seconds in execute_all(scripts):
+        if error is not None:
             print(f"FAILED {script.relative_to(ROOT)}:\n{error}", file=sys.stderr)
             return 1
         jupytext.write(notebook, script.with_suffix(".ipynb"))
-        print(f"{script.relative_to(ROOT)}: {time.perf_counter() - start:5.1f} s", flush=True)
-    print(f"all notebooks: {time.perf_counter() - total:5.1f} s\n")
+        print(f"{script.relative_to(ROOT)}: {seconds:5.1f} s", flush=True)
+    print(f"all notebooks: {time.perf_counter() - total:5.1f} s ({JOBS} at a time)\n")
     README.write_text(readme_with_tables(README.read_text(), ROOT / "data"))
     claims = ROOT / "data" / "claims.csv"
     if claims.exists():

@@ -140,13 +140,13 @@ def scaled(t, y, yp, k):
 
 
 def test_numeric_args_are_coerced_so_the_loop_compiles_once():
-    from splinestep.spline import _spline_loop
+    from splinestep import _compile
     splinestep.solve(scaled, (0, 1), 1.0, 0.0, 0.1, args=(1.0,))
-    before = len(_spline_loop.signatures)
+    before = len(_compile._LOOPS)
     for args in ((1,), (np.int64(2),), (True * 1.0,)):
         res = splinestep.solve(scaled, (0, 1), 1.0, 0.0, 0.1, args=args)
         assert res.path == "compiled" and res.success
-    assert len(_spline_loop.signatures) == before
+    assert len(_compile._LOOPS) == before
     res = splinestep.solve(lambda t, y, yp, k: -k @ y, (0, 1), [1.0], [0.0], 0.01,
                            args=(np.array([[2]]),))
     assert res.y[0, -1] == pytest.approx(math.cos(math.sqrt(2)), abs=1e-4)

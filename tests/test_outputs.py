@@ -12,6 +12,7 @@ import jupytext
 import pandas as pd
 import pytest
 
+import notebook_runs
 import reproduction
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -52,14 +53,16 @@ def test_notebook_names_the_installed_kernel(script):
 
 
 @pytest.fixture(scope="session")
-def fresh():
-    """The outputs of a fresh run: those nbval just wrote, or a new run."""
+def fresh(request):
+    """The outputs of a fresh run: those nbval writes in this session (once
+    every notebook has finished, on whichever worker), or a new run."""
     out = Path(os.environ["SPLINESTEP_OUTPUT"])
-    expected = [out / "data" / p.name for p in COMMITTED_DATA] + \
-               [out / "figures" / p.name for p in COMMITTED_PNG]
-    if not all(p.exists() for p in expected):
-        for script in SCRIPTS:
-            reproduce.execute(script, output_root=out)
+    running = notebook_runs.notebooks_in(request.session)
+    if running:
+        notebook_runs.wait_for_notebooks(running)
+    missing = [s for s in SCRIPTS if s.stem not in running]
+    for script, _, error, _ in reproduce.execute_all(missing, output_root=out):
+        assert error is None, f"{script.name} failed: {error}"
     return out
 
 

@@ -2,9 +2,8 @@
 equivalent first-order system u = (y, y'), u' = (y', F(t, y, y'))."""
 
 import numpy as np
-from numba import njit
 
-from . import _base
+from . import _base, _compile
 from ._base import BAD_SHAPE, NON_FINITE, OK, as_vector, wrong_length
 
 # Butcher tableau of the classical method: stage j (j = 2, 3, 4) is taken
@@ -15,10 +14,8 @@ FIRST_WEIGHT = 1.0 / 6.0
 STAGE_WEIGHTS = (1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
 
 
-# Not cache=True: numba's on-disk cache cannot key a loop on the function it
-# is given (it recompiles every run) and pickles that function's type into its
-# index, which breaks later processes.  The loop compiles once per process.
-@njit
+# Compiled once per signature and cached on disk by splinestep._compile; run
+# as it stands, as plain Python, otherwise.
 def _rk4_loop(fun, args, t0, h, n, tf, y0, yp0, t_eval, store_knots):
     """Step from t0 to tf; same return tuple as ``spline._spline_loop``.
 
@@ -145,6 +142,12 @@ def _rk4_loop(fun, args, t0, h, n, tf, y0, yp0, t_eval, store_knots):
     return (OK, -1, t, t, nfev, 0, 0, n, n_knots, n_eval, T, Y, YP, YPP, YE, YPE, YPPE)
 
 
+# Types of the loop's arguments after (fun, args): t0, h, n, tf, y0, yp0,
+# t_eval, store_knots.
+_LOOP_TYPES = (_compile.FLOAT, _compile.FLOAT, _compile.INT, _compile.FLOAT, _compile.VECTOR,
+               _compile.VECTOR, _compile.VECTOR, _compile.BOOL)
+
+
 def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=()):
     """Classical fourth-order Runge-Kutta for y'' = F(t, y, y').
 
@@ -189,7 +192,11 @@ def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=()):
         raise ValueError("fun must be callable")
     path = _base.choose_path(fun, None, args)
     _base.check_fun(fun, t0, y0, yp0, args)
-    loop = _rk4_loop if path == "compiled" else _rk4_loop.py_func
+    if path == "compiled":
+        fun_type, args_type, _ = _compile.loop_types(fun, None, args)
+        loop = _compile.compiled(_rk4_loop, (fun_type, args_type) + _LOOP_TYPES)
+    else:
+        loop = _rk4_loop
     out = loop(fun, args, t0, h, n, tf, y0, yp0,
                np.empty(0) if t_eval is None else t_eval, t_eval is None)
     result, _ = _base.build_result(out, t_eval, 0)

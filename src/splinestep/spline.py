@@ -23,7 +23,7 @@ import warnings
 import numpy as np
 from numba import njit
 
-from . import _base, check
+from . import _base, _compile, check
 from .events import check_events, locate
 from ._base import (BAD_SHAPE, FD_STEP, NON_FINITE, NOT_CONVERGED, OK, SINGULAR, as_vector,
                     wrong_length)
@@ -74,15 +74,13 @@ def _lu_solve(a, b):
     return x
 
 
-# Not cache=True: numba's on-disk cache cannot key a loop on the function it
-# is given (it recompiles every run) and pickles that function's type into its
-# index, which breaks later processes.  The loop compiles once per process.
-@njit
+# Compiled once per signature and cached on disk by splinestep._compile (see
+# _loop below); run as it stands, as plain Python, otherwise.
 def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0, t_eval,
                  store_knots, mode, n_iter, until_converged, tol):
     """Step from t0 to tf, forwards or backwards (h and the knots carry the
     direction).  Written once for both paths: compiled by numba when ``fun``
-    is compiled, run as plain Python (``py_func``) otherwise.  Component
+    is compiled, run as plain Python otherwise.  Component
     loops over preallocated buffers keep the step free of temporary arrays.
 
     ``ypp0`` (y'' at t0) and ``jerk0`` (the third derivative on the step
@@ -437,12 +435,12 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     _base.check_fun(fun, t0, y0, yp0, args)
     if jac is not None:
         _base.check_jac(jac, t0, y0, yp0, args)
-    loop = _spline_loop if path == "compiled" else _spline_loop.py_func
+    loop = _loop(path, fun, jac, args)
 
     until_converged = iterations is None
     n_iter = max_iter if until_converged else iterations
     settings = (mode, int(n_iter), until_converged, float(tol))
-    store_knots = t_eval is None or dense_output or bool(events)
+    store_knots = bool(t_eval is None or dense_output or events)
     t_eval_all = _EMPTY if t_eval is None else t_eval
     if not any(ev.max_count for ev in events):
         out, estimate = loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, _EMPTY, _EMPTY,
@@ -472,6 +470,22 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
 
 
 _EMPTY = np.empty(0)
+# Types of the loop's arguments after (fun, args, jac): t0, h, n, knots, tf,
+# y0, yp0, ypp0, jerk0, dt0, t_eval, store_knots, mode, n_iter,
+# until_converged, tol.
+_LOOP_TYPES = (_compile.FLOAT, _compile.FLOAT, _compile.INT, _compile.VECTOR, _compile.FLOAT,
+               _compile.VECTOR, _compile.VECTOR, _compile.VECTOR, _compile.VECTOR,
+               _compile.FLOAT, _compile.VECTOR, _compile.BOOL, _compile.INT, _compile.INT,
+               _compile.BOOL, _compile.FLOAT)
+
+
+def _loop(path, fun, jac, args):
+    """The step loop for this path: the plain function, or its compiled
+    version for the signatures of ``fun``, ``jac`` and ``args``."""
+    if path == "plain":
+        return _spline_loop
+    return _compile.compiled(_spline_loop, _compile.loop_types(fun, jac, args) + _LOOP_TYPES)
+
 # Steps in the first piece of a run with a terminal event; each later piece
 # doubles, up to MAX_PIECE, so a run that stops early computes little past
 # its event and a long run makes few calls.

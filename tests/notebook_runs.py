@@ -1,0 +1,38 @@
+"""Notebooks in a test session: which test item runs which notebook, and the
+marker files by which workers tell each other that a notebook has finished
+(see the repository's conftest.py)."""
+
+import os
+import time
+from pathlib import Path
+
+import pytest
+
+# Longest a notebook that reads the others' outputs waits for them.
+WAIT_SECONDS = 900
+
+
+def notebook_of(item):
+    """The notebook stem of an nbval cell item, or None for other tests."""
+    path = Path(str(item.path))
+    if path.suffix == ".ipynb" and path.parent.name == "notebooks":
+        return path.stem
+    return None
+
+
+def done_marker(stem):
+    return Path(os.environ["SPLINESTEP_OUTPUT"]) / ".done" / stem
+
+
+def notebooks_in(session):
+    return sorted({stem for stem in map(notebook_of, session.items) if stem})
+
+
+def wait_for_notebooks(stems):
+    """Block until every notebook in ``stems`` has finished in this session."""
+    deadline = time.monotonic() + WAIT_SECONDS
+    while not all(done_marker(stem).exists() for stem in stems):
+        if time.monotonic() > deadline:
+            missing = [s for s in stems if not done_marker(s).exists()]
+            pytest.fail(f"notebooks {missing} did not finish within {WAIT_SECONDS} s")
+        time.sleep(0.2)
