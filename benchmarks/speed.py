@@ -1,18 +1,30 @@
-"""Speed of splinestep beside scipy and a C loop, in one run on one machine.
+"""Speed of splinestep beside scipy, numba and C, in one run on one machine.
 
-For the Kepler case (mu = 0.6, t in [0, 50]) and the rigid body (consistent
-rates, t in [0, 80]) it times, as medians of several runs: splinestep's
-compiled and plain-Python loops, rk4 compiled and plain, scipy's solve_ivp
-RK45 and DOP853 (plain-Python right-hand side, rtol 1e-8), and a C loop of
-the same spline-step arithmetic (benchmarks/spline_step.c, compiled here
-with the system's C compiler; skipped with a message when there is none).
-The spline runs do SWEEPS fixed-point sweeps per step, like the C loop.
-Plain-Python and scipy runs use fewer steps; time per evaluation is the
-comparable figure.  Run with `make bench`.
+Prints one table (and writes it into README.md between the markers
+``<!-- begin bench -->`` and ``<!-- end bench -->``):
+
+- time per right-hand-side evaluation of the compiled loops (splinestep's
+  spline and RK4), against a C loop of the bare spline-step arithmetic
+  (benchmarks/spline_step.c, compiled here with the system's C compiler) and
+  the same arithmetic in numba (benchmarks/numba_reference.py), with the
+  right-hand side inlined and through a function pointer, which splits the
+  compiled loop's time into its parts;
+- time per evaluation of the plain-Python paths for a right-hand side that
+  returns an array, the way one writes it first, against scipy's solve_ivp
+  (RK45, DOP853) on the same function;
+- process times: importing splinestep, the first solve of a new process
+  with numba's disk cache warm and with it empty, numba's own first-call
+  cost, and the two commands' runs (notebooks two at a time; pytest with
+  two workers).
+
+Times are medians of several runs; ratios compare rows of the same run.
+``python benchmarks/speed.py --quick`` skips the notebooks and the test
+suite and leaves README.md alone.  Run with ``make bench``.
 """
 
 import os
 import platform
+import re
 import shutil
 import statistics
 import subprocess
@@ -29,11 +41,33 @@ import splinestep
 from splinestep import problems
 
 HERE = Path(__file__).resolve().parent
-SWEEPS = 2
+ROOT = HERE.parent
+sys.path[:0] = [str(HERE), str(ROOT / "scripts")]
+import numba_reference  # noqa: E402
+
+SWEEPS = 2               # fixed-point sweeps per step in the compiled rows, as in C
 COMPILED_STEPS = 1_000_000
 PLAIN_STEPS = 20_000
 REPEATS = 5
-CASES = {"kepler": problems.cannonball(0.6), "rigid": problems.rigid_body("consistent")}
+PLAIN_REPEATS = 3
+
+
+def kepler_array(t, y, yp, mu):
+    """The Kepler force as one writes it first: array in, array out."""
+    return -mu * y / np.linalg.norm(y) ** 3
+
+
+def rigid_array(t, w, wp, i1, i2, i3, beta):
+    """The rigid body's w'' = alpha(w) w - beta w', array in, array out."""
+    alpha = np.array([
+        w[2] ** 2 * (i2 - i3) * (i3 - i1) / (i1 * i2) + w[1] ** 2 * (i2 - i3) * (i1 - i2) / (i1 * i3),
+        w[0] ** 2 * (i3 - i1) * (i1 - i2) / (i2 * i3) + w[2] ** 2 * (i2 - i3) * (i3 - i1) / (i2 * i1),
+        w[1] ** 2 * (i1 - i2) * (i2 - i3) / (i3 * i1) + w[0] ** 2 * (i1 - i2) * (i3 - i1) / (i3 * i2)])
+    return alpha * w - beta * wp
+
+
+CASES = {"kepler": (problems.cannonball(0.6), kepler_array),
+         "rigid": (problems.rigid_body("consistent"), rigid_array)}
 
 
 def median_time(run, repeats):
@@ -55,101 +89,190 @@ def compile_c():
     return exe
 
 
-FIRST_CALL = '''
-import time, splinestep
-from splinestep import problems
-p = problems.cannonball(0.6)
+def compiled_rows(name, problem, exe):
+    """(label, evaluations, seconds) of the compiled loops, and the C time
+    per evaluation (None without a C compiler)."""
+    span, args = problem.t_span, problem.args
+    t_eval = np.linspace(*span, 1000)
+    h = (span[1] - span[0]) / COMPILED_STEPS
+
+    def spline():
+        return splinestep.solve(problem.fun, span, problem.y0, problem.yp0, h, args=args,
+                                iterations=SWEEPS, t_eval=t_eval)
+
+    def rk4():
+        return splinestep.rk4(problem.fun, span, problem.y0, problem.yp0, h, args=args,
+                              t_eval=t_eval)
+
+    pointer = numba_reference.through_pointer(problem.fun, args)
+    rows = []
+    for label, run in (
+            ("splinestep spline, compiled", lambda: spline().nfev),
+            ("splinestep rk4, compiled", lambda: rk4().nfev),
+            ("numba, C's arithmetic, fun through a pointer", lambda: pointer(
+                problem.fun, args, *span, COMPILED_STEPS, SWEEPS, problem.y0.copy(),
+                problem.yp0.copy())),
+            ("numba, C's arithmetic, fun inlined", lambda: numba_reference.INLINED(
+                problem.fun, args, *span, COMPILED_STEPS, SWEEPS, problem.y0.copy(),
+                problem.yp0.copy()))):
+        run()  # compile (or load) outside the timing
+        seconds, nfev = median_time(run, REPEATS)
+        rows.append((label, nfev, seconds))
+    c_per_eval = None
+    if exe is not None:
+        out = subprocess.run([str(exe), name, str(COMPILED_STEPS), str(SWEEPS), str(REPEATS)],
+                             capture_output=True, text=True, check=True).stdout.split()
+        ns_step, nfev = float(out[0]), int(out[1])
+        c_final = np.array([float(v) for v in out[2:]])
+        res = spline()
+        final = np.concatenate([res.y[:, -1], res.yp[:, -1]])
+        agree = np.max(np.abs(c_final - final)) / np.max(np.abs(final))
+        if agree > 1e-10:
+            raise RuntimeError(f"C and splinestep disagree: {agree:.1e}")
+        rows.append(("C (gcc -O2 -march=native)", nfev, ns_step * COMPILED_STEPS * 1e-9))
+        c_per_eval = ns_step * COMPILED_STEPS * 1e-9 / nfev
+    return rows, c_per_eval
+
+
+def plain_rows(problem, array_fun):
+    """(label, evaluations, seconds) of the plain-Python paths."""
+    span, args, m = problem.t_span, problem.args, problem.y0.size
+    h = (span[1] - span[0]) / PLAIN_STEPS
+
+    def first_order(t, u):
+        return np.concatenate([u[m:], array_fun(t, u[:m], u[m:], *args)])
+
+    rows = []
+    for label, run in (
+            ("splinestep spline, plain, array fun", lambda: splinestep.solve(
+                array_fun, span, problem.y0, problem.yp0, h, args=args)),
+            ("splinestep spline, plain, tuple fun", lambda: splinestep.solve(
+                problem.fun.py_func, span, problem.y0, problem.yp0, h, args=args)),
+            ("splinestep rk4, plain, array fun", lambda: splinestep.rk4(
+                array_fun, span, problem.y0, problem.yp0, h, args=args)),
+            ("scipy RK45, array fun (rtol 1e-8)", lambda: solve_ivp(
+                first_order, span, np.concatenate([problem.y0, problem.yp0]), method="RK45",
+                rtol=1e-8, atol=1e-10)),
+            ("scipy DOP853, array fun (rtol 1e-8)", lambda: solve_ivp(
+                first_order, span, np.concatenate([problem.y0, problem.yp0]), method="DOP853",
+                rtol=1e-8, atol=1e-10))):
+        seconds, res = median_time(run, PLAIN_REPEATS)
+        assert res.success, res.message
+        rows.append((label, res.nfev, seconds))
+    return rows
+
+
+FIRST_SOLVE = '''
+import time
 start = time.perf_counter()
-p.solve("spline", h=1.0)
+import splinestep
+from splinestep import problems
+imported = time.perf_counter()
+p = problems.cannonball(0.6)
+start_solve = time.perf_counter()
+p.solve("spline", h=1e-3)
+solved = time.perf_counter()
+p.solve("rk4", h=1e-3)
+rk4_solved = time.perf_counter()
+print(imported - start, solved - start_solve, rk4_solved - solved)
+'''
+
+NUMBA_FLOOR = '''
+import time, numba, numpy, scipy.special
+import floor_module
+start = time.perf_counter()
+floor_module.one(1.0)
 print(time.perf_counter() - start)
 '''
 
 
-def first_call_seconds():
-    """Seconds of the first compiled solve in a new process (compilation
-    included, imports excluded)."""
-    out = subprocess.run([sys.executable, "-c", FIRST_CALL], capture_output=True, text=True,
-                         check=True).stdout
-    return float(out.split()[-1])
+def new_process(code, env=None, path=()):
+    env = dict(os.environ, **(env or {}))
+    env["PYTHONPATH"] = os.pathsep.join([*path, str(HERE), env.get("PYTHONPATH", "")])
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, env=env)
+    return [float(v) for v in out.stdout.split()]
 
 
-def main():
-    print(f"machine: {platform.machine()}, {os.cpu_count()} cores, {platform.processor() or ''} "
-          f"Python {platform.python_version()}, numpy {np.__version__}\n")
+def process_rows(quick):
+    """(label, seconds) of process-level times."""
+    rows = []
+    warm = [new_process(FIRST_SOLVE) for _ in range(3)]
+    imported, spline_s, rk4_s = (statistics.median(v) for v in zip(*warm))
+    rows.append(("import splinestep (new process)", imported))
+    rows.append(("first spline solve, new process, cache warm", spline_s))
+    rows.append(("first rk4 solve, new process, cache warm", rk4_s))
+    with tempfile.TemporaryDirectory() as folder:
+        Path(folder, "floor_module.py").write_text(
+            "from numba import njit\n@njit(cache=True)\ndef one(x):\n    return x + 1.0\n")
+        new_process(NUMBA_FLOOR, path=[folder])
+        floor = statistics.median(new_process(NUMBA_FLOOR, path=[folder])[0] for _ in range(3))
+    rows.append(("numba's first call of any cached function", floor))
+    with tempfile.TemporaryDirectory() as cache:
+        _, cold_spline, cold_rk4 = new_process(FIRST_SOLVE, env={"NUMBA_CACHE_DIR": cache})
+    rows.append(("first spline solve, cache empty (compiles)", cold_spline))
+    rows.append(("first rk4 solve, cache empty (compiles)", cold_rk4))
+    if not quick:
+        import reproduce
+        with tempfile.TemporaryDirectory() as out:
+            start = time.perf_counter()
+            for script, _, error, _ in reproduce.execute_all(reproduce.NOTEBOOKS, Path(out)):
+                if error is not None:
+                    raise RuntimeError(f"{script.name} failed: {error}")
+            rows.append((f"all notebooks, {reproduce.JOBS} at a time (make reproduce)",
+                         time.perf_counter() - start))
+        start = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "pytest", "-q", "-n", "2", "--dist", "loadfile",
+                        "--no-loadscope-reorder"], cwd=ROOT, check=True, capture_output=True)
+        rows.append(("test suite, 2 workers (make test)", time.perf_counter() - start))
+    return rows
+
+
+def table(header, rows):
+    lines = ["| " + " | ".join(header) + " |",
+             "|" + "|".join("---:" if i else "---" for i in range(len(header))) + "|"]
+    return lines + ["| " + " | ".join(row) + " |" for row in rows]
+
+
+def main(quick=False):
+    machine = (f"{platform.machine()}, {os.cpu_count()} cores, Python "
+               f"{platform.python_version()}, numpy {np.__version__}, "
+               f"numba {__import__('numba').__version__}")
     exe = compile_c()
-    if exe is None:
-        print("no C compiler found: the C loop is skipped\n")
-    for name, problem in CASES.items():
-        span = problem.t_span
-        t_eval = np.linspace(*span, 1000)
-        rows = []
-
-        def spline(fun, n):
-            return lambda: splinestep.solve(fun, span, problem.y0, problem.yp0,
-                                            (span[1] - span[0]) / n, args=problem.args,
-                                            iterations=SWEEPS, t_eval=t_eval)
-
-        def rk4(fun, n):
-            return lambda: splinestep.rk4(fun, span, problem.y0, problem.yp0,
-                                          (span[1] - span[0]) / n, args=problem.args,
-                                          t_eval=t_eval)
-
-        with warnings.catch_warnings():  # 10 steps are far too large: only to compile
-            warnings.simplefilter("ignore")
-            spline(problem.fun, 10)()  # compile outside the timing
-            rk4(problem.fun, 10)()
-        for label, run, n, repeats in (
-                ("splinestep compiled", spline(problem.fun, COMPILED_STEPS), COMPILED_STEPS, REPEATS),
-                ("splinestep plain Python", spline(problem.fun.py_func, PLAIN_STEPS), PLAIN_STEPS, 3),
-                ("rk4 compiled", rk4(problem.fun, COMPILED_STEPS), COMPILED_STEPS, REPEATS),
-                ("rk4 plain Python", rk4(problem.fun.py_func, PLAIN_STEPS), PLAIN_STEPS, 3)):
-            seconds, res = median_time(run, repeats)
-            assert res.success, res.message
-            rows.append((label, res.nstep, res.nfev, seconds))
-            if label == "splinestep compiled":
-                final = np.concatenate([res.y[:, -1], res.yp[:, -1]])
-
-        rhs, args, m = problem.fun.py_func, problem.args, problem.y0.size
-
-        def first_order(t, u):
-            return np.concatenate([u[m:], rhs(t, u[:m], u[m:], *args)])
-
-        for method in ("RK45", "DOP853"):
-            seconds, sol = median_time(lambda: solve_ivp(
-                first_order, span, np.concatenate([problem.y0, problem.yp0]), method=method,
-                rtol=1e-8, atol=1e-10), 3)
-            rows.append((f"scipy solve_ivp {method}", sol.t.size - 1, sol.nfev, seconds))
-
-        c_per_eval = None
-        if exe is not None:
-            out = subprocess.run([str(exe), name, str(COMPILED_STEPS), str(SWEEPS), str(REPEATS)],
-                                 capture_output=True, text=True, check=True).stdout.split()
-            ns_step, nfev = float(out[0]), int(out[1])
-            c_final = np.array([float(v) for v in out[2:]])
-            agree = np.max(np.abs(c_final - final)) / np.max(np.abs(final))
-            rows.append(("C loop (gcc -O2 -march=native)", COMPILED_STEPS, nfev,
-                         ns_step * COMPILED_STEPS * 1e-9))
-            c_per_eval = ns_step * COMPILED_STEPS / nfev
-
-        print(f"{problem.name}, t in {span}, {SWEEPS} fixed-point sweeps per spline step")
-        print(f"{'implementation':<32} {'steps':>9} {'evaluations':>12} {'ns/step':>10} "
-              f"{'ns/eval':>10} {'x C (per eval)':>15}")
-        for label, steps, nfev, seconds in rows:
-            per_eval = 1e9 * seconds / nfev
-            ratio = f"{per_eval / c_per_eval:15.1f}" if c_per_eval else f"{'-':>15}"
-            print(f"{label:<32} {steps:>9d} {nfev:>12d} {1e9 * seconds / steps:>10.1f} "
-                  f"{per_eval:>10.1f} {ratio}")
-        if exe is not None:
-            print(f"C and compiled splinestep final states agree to {agree:.1e} (relative)")
-        if name == "kepler":
-            compile_s = first_call_seconds()
-            per_step = {label: seconds / steps for label, steps, _, seconds in rows}
-            saving = per_step["splinestep plain Python"] - per_step["splinestep compiled"]
-            print(f"first compiled solve in a new process: {compile_s:.1f} s; compiling "
-                  f"pays for runs of more than {compile_s / saving:.2g} steps")
-        print()
+    lines = [f"Measured by `make bench` on {machine}.", ""]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # short compile runs are flagged, rightly
+        for name, (problem, array_fun) in CASES.items():
+            compiled, c_per_eval = compiled_rows(name, problem, exe)
+            plain = plain_rows(problem, array_fun)
+            rk45 = next(s / n for label, n, s in plain if label.startswith("scipy RK45"))
+            rows = []
+            for label, nfev, seconds in compiled:
+                per = seconds / nfev
+                rows.append([label, f"{nfev:,}", f"{per * 1e9:.1f} ns",
+                             f"{per / c_per_eval:.2f} x C" if c_per_eval else "-"])
+            for label, nfev, seconds in plain:
+                per = seconds / nfev
+                rows.append([label, f"{nfev:,}", f"{per * 1e6:.2f} us",
+                             f"{per / rk45:.2f} x RK45"])
+            lines += [f"**{problem.name}**, t in {problem.t_span}; compiled spline rows do "
+                      f"{SWEEPS} fixed-point sweeps per step, as the C loop; plain spline rows "
+                      "iterate to convergence", ""]
+            lines += table(["implementation", "evaluations", "time per evaluation", "ratio"],
+                           rows)
+            lines.append("")
+    process = process_rows(quick)
+    lines += table(["process", "seconds"], [[label, f"{s:.2f}"] for label, s in process])
+    text = "\n".join(lines)
+    print(text)
+    if not quick:
+        readme = ROOT / "README.md"
+        old = readme.read_text()
+        new = re.sub(r"(<!-- begin bench -->\n).*?(<!-- end bench -->)",
+                     lambda m: m.group(1) + text + "\n" + m.group(2), old, flags=re.S)
+        readme.write_text(new)
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(quick="--quick" in sys.argv))

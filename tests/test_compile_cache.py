@@ -61,3 +61,19 @@ def test_loop_signatures_name_no_python_function():
         for argument in signature:
             assert not isinstance(argument, types.Dispatcher)
         assert isinstance(signature[0], types.FunctionType)
+
+
+def test_a_change_to_any_file_of_the_package_changes_every_cache_stamp(tmp_path, monkeypatch):
+    """numba's own stamp covers a function's file only; ours covers the
+    package, so a constant changed in _base.py invalidates spline.py's loop."""
+    import shutil
+    loop = splinestep.spline._spline_loop
+    locator = _compile._InTree.from_function(loop, loop.__code__.co_filename)
+    assert locator.get_source_stamp() == _compile.PACKAGE_STAMP
+    copy = tmp_path / "splinestep"
+    shutil.copytree(_compile.PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    monkeypatch.setattr(_compile, "PACKAGE", copy)
+    assert _compile._package_stamp() == _compile.PACKAGE_STAMP
+    base = copy / "_base.py"
+    base.write_text(base.read_text().replace("SLIVER = 1e-9", "SLIVER = 1e-8"))
+    assert _compile._package_stamp() != _compile.PACKAGE_STAMP

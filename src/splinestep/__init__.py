@@ -9,6 +9,7 @@ The public API:
 - :class:`OdeResult`, :class:`SplineSolution` -- what the solvers return.
 """
 
+from . import _compile  # noqa: F401  (first: it sets how numba caches the package)
 from . import problems
 from .linear import linear
 from .result import OdeResult, SplineSolution

@@ -14,13 +14,70 @@ later process, whichever module or notebook defines ``fun``.  The call
 through a function pointer cannot be inlined; ``make bench`` measures its
 cost per evaluation.
 
+numba stamps a cached function with the contents of its own source file
+only, so a loop compiled with a constant from another module of the package
+would outlive a change of that constant.  Here every function of the package
+is stamped with the contents of all the package's files: any change to any
+of them recompiles, and a cache written by one version of the code is never
+loaded by another.
+
 References
 ----------
 .. [1] numba documentation, "First-class function objects" and "Notes on
    caching", https://numba.readthedocs.io
 """
 
-from numba import njit, typeof, types
+import contextlib
+import hashlib
+import itertools
+from pathlib import Path
+
+import numpy as np
+from numba import njit, objmode, typeof, types
+from numba.core import caching
+
+PACKAGE = Path(__file__).resolve().parent
+
+
+def _package_stamp():
+    digest = hashlib.sha256()
+    for path in sorted(PACKAGE.rglob("*.py")):
+        digest.update(path.relative_to(PACKAGE).as_posix().encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
+PACKAGE_STAMP = _package_stamp()
+
+
+class _PackageStamp:
+    """A numba cache locator mixin: functions of this package are stamped
+    with the whole package's contents (:data:`PACKAGE_STAMP`)."""
+
+    def get_source_stamp(self):
+        return PACKAGE_STAMP
+
+    @classmethod
+    def from_function(cls, py_func, py_file):
+        if not Path(py_file).resolve().is_relative_to(PACKAGE):
+            return None
+        return super().from_function(py_func, py_file)
+
+
+class _UserProvided(_PackageStamp, caching.UserProvidedCacheLocator):
+    pass
+
+
+class _InTree(_PackageStamp, caching.InTreeCacheLocator):
+    pass
+
+
+class _UserWide(_PackageStamp, caching.UserWideCacheLocator):
+    pass
+
+
+# Tried first, in numba's own order; other modules fall through to numba's.
+caching.CacheImpl._locator_classes[:0] = [_UserProvided, _InTree, _UserWide]
 
 VECTOR = types.float64[::1]
 FLOAT = types.float64
@@ -59,3 +116,76 @@ def compiled(py_loop, arg_types):
     if key not in _LOOPS:
         _LOOPS[key] = njit(tuple(arg_types), cache=True)(py_loop)
     return _LOOPS[key]
+
+
+# Plain-Python right-hand sides.  The compiled loop calls them through two
+# compiled trampolines (cached like the loops), which switch to the
+# interpreter for the call itself (numba's objmode) and find the Python
+# function by a key passed as the loop's one argument.  So the loop runs
+# compiled for every ``fun``, with no compilation per function, and a call
+# costs the function itself plus about a microsecond (``make bench``).
+_FUNS = {}
+_JACS = {}
+_KEYS = itertools.count()
+
+
+def _call_fun(key, t, y, yp):
+    return _FUNS[key](t, y, yp)
+
+
+def _call_jac(key, t, y, yp):
+    return _JACS[key](t, y, yp)
+
+
+@njit(cache=True)
+def _python_fun(t, y, yp, key):
+    with objmode(g="float64[::1]"):
+        g = _call_fun(key, t, y, yp)
+    return g
+
+
+@njit(cache=True)
+def _python_jac(t, y, yp, key):
+    with objmode(fy="float64[:, ::1]", fyp="float64[:, ::1]"):
+        fy, fyp = _call_jac(key, t, y, yp)
+    return fy, fyp
+
+
+def _vector(value):
+    """The value of a plain ``fun`` as a new float vector; any shape other
+    than 1-D becomes an empty vector, which the loop reports as the wrong
+    shape (a scalar is the one component of m = 1)."""
+    g = np.array(value, dtype=np.float64, ndmin=1)
+    return g if g.ndim == 1 else np.empty(0)
+
+
+def _matrices(value, m):
+    """(dF/dy, dF/dyp) of a plain ``jac`` as new (m, m) float arrays; a wrong
+    shape becomes NaN, which the loop reports as a failed Newton solve."""
+    parts = [np.array(part, dtype=np.float64, ndmin=2) for part in value]
+    if len(parts) != 2 or any(part.shape != (m, m) for part in parts):
+        return np.full((m, m), np.nan), np.full((m, m), np.nan)
+    return parts[0], parts[1]
+
+
+@contextlib.contextmanager
+def python_callbacks(fun, jac, args):
+    """Within the block, ``(fun, jac, args)`` for a step loop that calls the
+    plain-Python ``fun`` and ``jac`` (or None) with ``args``."""
+    key = float(next(_KEYS))
+    _FUNS[key] = lambda t, y, yp: _vector(fun(t, y, yp, *args))
+    if jac is not None:
+        _JACS[key] = lambda t, y, yp: _matrices(jac(t, y, yp, *args), y.shape[0])
+    try:
+        yield _python_fun, (None if jac is None else _python_jac), (key,)
+    finally:
+        _FUNS.pop(key, None)
+        _JACS.pop(key, None)
+
+
+def loop_callables(path, fun, jac, args):
+    """A context giving the ``(fun, jac, args)`` a step loop is called with:
+    those given on the compiled path, Python callbacks on the plain one."""
+    if path == "plain":
+        return python_callbacks(fun, jac, args)
+    return contextlib.nullcontext((fun, jac, args))

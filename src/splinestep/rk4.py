@@ -14,8 +14,8 @@ FIRST_WEIGHT = 1.0 / 6.0
 STAGE_WEIGHTS = (1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
 
 
-# Compiled once per signature and cached on disk by splinestep._compile; run
-# as it stands, as plain Python, otherwise.
+# Compiled once per signature and cached on disk by splinestep._compile, for
+# compiled and plain-Python right-hand sides alike.
 def _rk4_loop(fun, args, t0, h, n, tf, y0, yp0, t_eval, store_knots):
     """Step from t0 to tf; same return tuple as ``spline._spline_loop``.
 
@@ -192,13 +192,11 @@ def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=()):
         raise ValueError("fun must be callable")
     path = _base.choose_path(fun, None, args)
     _base.check_fun(fun, t0, y0, yp0, args)
-    if path == "compiled":
-        fun_type, args_type, _ = _compile.loop_types(fun, None, args)
+    with _compile.loop_callables(path, fun, None, args) as (loop_fun, _, loop_args):
+        fun_type, args_type, _ = _compile.loop_types(loop_fun, None, loop_args)
         loop = _compile.compiled(_rk4_loop, (fun_type, args_type) + _LOOP_TYPES)
-    else:
-        loop = _rk4_loop
-    out = loop(fun, args, t0, h, n, tf, y0, yp0,
-               np.empty(0) if t_eval is None else t_eval, t_eval is None)
+        out = loop(loop_fun, loop_args, t0, h, n, tf, y0, yp0,
+                   np.empty(0) if t_eval is None else t_eval, t_eval is None)
     result, _ = _base.build_result(out, t_eval, 0)
     result.path = path
     return result

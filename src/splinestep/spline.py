@@ -74,13 +74,13 @@ def _lu_solve(a, b):
     return x
 
 
-# Compiled once per signature and cached on disk by splinestep._compile (see
-# _loop below); run as it stands, as plain Python, otherwise.
+# Compiled once per signature and cached on disk by splinestep._compile, for
+# compiled and plain-Python right-hand sides alike.
 def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0, t_eval,
                  store_knots, mode, n_iter, until_converged, tol):
     """Step from t0 to tf, forwards or backwards (h and the knots carry the
-    direction).  Written once for both paths: compiled by numba when ``fun``
-    is compiled, run as plain Python otherwise.  Component
+    direction).  Compiled by numba for every ``fun``: a compiled one is
+    called directly, a plain-Python one through ``_compile.python_callbacks``.  Component
     loops over preallocated buffers keep the step free of temporary arrays.
 
     ``ypp0`` (y'' at t0) and ``jerk0`` (the third derivative on the step
@@ -435,20 +435,23 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     _base.check_fun(fun, t0, y0, yp0, args)
     if jac is not None:
         _base.check_jac(jac, t0, y0, yp0, args)
-    loop = _loop(path, fun, jac, args)
 
     until_converged = iterations is None
     n_iter = max_iter if until_converged else iterations
     settings = (mode, int(n_iter), until_converged, float(tol))
     store_knots = bool(t_eval is None or dense_output or events)
     t_eval_all = _EMPTY if t_eval is None else t_eval
-    if not any(ev.max_count for ev in events):
-        out, estimate = loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, _EMPTY, _EMPTY,
-                             0.0, t_eval_all, store_knots, *settings)
-        terminal = None
-    else:
-        out, estimate, terminal = _run_until_terminal(
-            loop, fun, args, jac, t0, h, n, knots, tf, y0, yp0, t_eval_all, events, settings)
+    with _compile.loop_callables(path, fun, jac, args) as (loop_fun, loop_jac, loop_args):
+        loop = _compile.compiled(
+            _spline_loop, _compile.loop_types(loop_fun, loop_jac, loop_args) + _LOOP_TYPES)
+        if not any(ev.max_count for ev in events):
+            out, estimate = loop(loop_fun, loop_args, loop_jac, t0, h, n, knots, tf, y0, yp0,
+                                 _EMPTY, _EMPTY, 0.0, t_eval_all, store_knots, *settings)
+            terminal = None
+        else:
+            out, estimate, terminal = _run_until_terminal(
+                loop, loop_fun, loop_args, loop_jac, t0, h, n, knots, tf, y0, yp0, t_eval_all,
+                events, settings)
     result, knot_values = _base.build_result(out, t_eval, n_iter)
     if events and terminal is None:
         T, Y, YP, YPP = knot_values
@@ -477,14 +480,6 @@ _LOOP_TYPES = (_compile.FLOAT, _compile.FLOAT, _compile.INT, _compile.VECTOR, _c
                _compile.VECTOR, _compile.VECTOR, _compile.VECTOR, _compile.VECTOR,
                _compile.FLOAT, _compile.VECTOR, _compile.BOOL, _compile.INT, _compile.INT,
                _compile.BOOL, _compile.FLOAT)
-
-
-def _loop(path, fun, jac, args):
-    """The step loop for this path: the plain function, or its compiled
-    version for the signatures of ``fun``, ``jac`` and ``args``."""
-    if path == "plain":
-        return _spline_loop
-    return _compile.compiled(_spline_loop, _compile.loop_types(fun, jac, args) + _LOOP_TYPES)
 
 # Steps in the first piece of a run with a terminal event; each later piece
 # doubles, up to MAX_PIECE, so a run that stops early computes little past
