@@ -123,7 +123,7 @@ def compiled(py_loop, arg_types):
 # interpreter for the call itself (numba's objmode) and find the Python
 # function by a key passed as the loop's one argument.  So the loop runs
 # compiled for every ``fun``, with no compilation per function, and a call
-# costs the function itself plus about a microsecond (``make bench``).
+# costs the function itself plus the switch (``make bench`` measures it).
 _FUNS = {}
 _JACS = {}
 _KEYS = itertools.count()
