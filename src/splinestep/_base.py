@@ -303,8 +303,8 @@ def choose_path(fun, jac, args):
         return "plain"
     if jac is not None and not is_compiled(jac):
         warnings.warn("fun is compiled but jac is plain Python, so the loop calls both "
-                      "through the interpreter (the plain path, about 100 times slower per "
-                      "evaluation on small problems); compile jac with numba.njit too",
+                      "through the interpreter (the plain path, slower per evaluation); "
+                      "compile jac with numba.njit too",
                       UserWarning, stacklevel=3)
         return "plain"
     check_compiled_args(args)

@@ -36,6 +36,8 @@ import numpy as np
 from numba import njit, objmode, typeof, types
 from numba.core import caching
 
+from ._base import as_vector
+
 PACKAGE = Path(__file__).resolve().parent
 
 
@@ -155,8 +157,8 @@ def _vector(value):
     """The value of a plain ``fun`` as a new float vector; any shape other
     than 1-D becomes an empty vector, which the loop reports as the wrong
     shape (a scalar is the one component of m = 1)."""
-    g = np.array(value, dtype=np.float64, ndmin=1)
-    return g if g.ndim == 1 else np.empty(0)
+    g = as_vector(value)
+    return g.copy() if g.ndim == 1 else np.empty(0)
 
 
 def _matrices(value, m):

@@ -158,8 +158,9 @@ def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=()):
     Parameters
     ----------
     fun : callable
-        ``fun(t, y, yp, *args) -> y''``; a ``numba.njit`` function runs the
-        loop compiled.
+        ``fun(t, y, yp, *args) -> y''``; the loop runs compiled and calls a
+        ``numba.njit`` function directly, a plain one through the
+        interpreter.
     t_span : (float, float)
         Interval of integration, t0 < tf.
     y0, yp0 : float or array_like, shape (m,)

@@ -322,10 +322,11 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     fun : callable
         ``fun(t, y, yp, *args) -> y''``, with y and yp arrays of shape (m,);
         it returns an array of shape (m,), a list or a tuple of m numbers,
-        or a number when m = 1.  When ``fun`` is a ``numba.njit``
-        function, the whole stepping loop runs compiled (see the README's
-        "The fast path"); a compiled ``fun`` that returns a tuple spares an
-        array allocation per evaluation.
+        or a number when m = 1.  The stepping loop runs compiled; a
+        ``numba.njit`` ``fun`` is called from it directly, a plain one
+        through the interpreter (see the README's "The fast path"); a
+        compiled ``fun`` that returns a tuple spares an array allocation
+        per evaluation.
     t_span : (float, float)
         Interval of integration (t0, tf); tf < t0 integrates backwards.
     y0, yp0 : float or array_like, shape (m,)
