@@ -152,7 +152,7 @@ outputs.save_figure(fig, "method-phase-error")
 # found:
 #
 # * **second order** (Fig. 3): the local error of the linear-acceleration
-#   method is $h^4 y''''/24 + O(h^5)$ in $y$ and $-h^3 y''''/12 + O(h^4)$ in
+#   method is $h^4 y''''/24 + O(h^5)$ in $y$ and $+h^3 y''''/12 + O(h^4)$ in
 #   $y'$, so the global error is $O(h^2)$;
 # * **a bounded energy error on the cannonball**: for a conservative force,
 #   $y'' = -\nabla V(y)$, Newmark's method with $\gamma = 1/2$ is symplectic

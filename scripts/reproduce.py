@@ -22,6 +22,8 @@ ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.py"))
 # Notebooks that read the data the others write: run after all the others.
 LAST = ("05_claims_and_errata",)
+# The longest notebooks start first, so that the others run beside them.
+LONGEST = ("06_theory",)
 # Notebooks run at the same time (each kernel is one process).
 JOBS = int(os.environ.get("SPLINESTEP_JOBS", "2"))
 KERNELSPEC = {"name": "python3", "display_name": "Python 3 (ipykernel)", "language": "python"}
@@ -83,7 +85,9 @@ def execute_all(scripts, output_root=None, jobs=JOBS):
     last = [s for s in scripts if s.stem in LAST]
     with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
         for group in (first, last):
-            futures = [pool.submit(_timed, s, output_root) for s in group]
+            started = {s: pool.submit(_timed, s, output_root)
+                       for s in sorted(group, key=lambda s: s.stem not in LONGEST)}
+            futures = [started[s] for s in group]
             for script, future in zip(group, futures):
                 notebook, error, seconds = future.result()
                 yield script, notebook, error, seconds

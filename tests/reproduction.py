@@ -66,6 +66,9 @@ TOLERANCES = {
     "state": Tolerance(scale_rtol=1e-9),
     "error": Tolerance(rtol=1e-4, atol=ROUNDING_FLOOR),
     "adaptive": Tolerance(rtol=5e-2, atol=ROUNDING_FLOOR),
+    # Quantities a method conserves exactly, whose error is the rounding
+    # accumulated over up to 4e7 steps (at most about N eps = 1e-8).
+    "rounding": Tolerance(atol=1e-8),
 }
 
 # file -> column -> kind.  Text columns are always compared as strings.
@@ -104,6 +107,17 @@ COLUMNS = {
                           most_tested="exact", error_at_most="error"),
     "work-precision-ratios": dict(method="exact", baseline="exact", ratio_min="error",
                                   ratio_max="error"),
+    "higher-degree-roots": dict(degree="exact", largest_spurious_root="exact",
+                                measured_growth_per_step="slope"),
+    "long-time-invariants": dict(orbit="exact", energy_error="error", momentum_error="error",
+                                 angle_error="error", modified_energy_error="error",
+                                 modified_momentum_error="rounding"),
+    "long-time-drift": dict(orbits="exact", energy_exponent="slope",
+                            energy_drift_per_orbit="error", final_energy_error="error",
+                            momentum_exponent="slope", momentum_drift_per_orbit="error",
+                            final_momentum_error="error", phase_rate_per_orbit="error"),
+    "spline-verlet-work": dict(dt="exact", nfev="exact", max_error="error"),
+    "theory-constants": dict(derived="exact", measured="error"),
     "rigid-body-energy-drift": dict(method="exact", energy_error_t80="error",
                                     energy_error_t800="error", max_energy_error="error",
                                     growth_ratio="error", drift_rate="error"),
@@ -119,6 +133,19 @@ ADAPTIVE_ROWS = {
                        "most_tested", "error_at_most")),
     "work-precision-ratios": (lambda frame: frame["baseline"].str.startswith("scipy"),
                               ("ratio_min", "ratio_max")),
+    "long-time-invariants": (lambda frame: frame["method"].str.startswith("DOP853"),
+                             ("energy_error", "momentum_error", "angle_error")),
+    "long-time-drift": (lambda frame: frame["method"].str.startswith("DOP853"),
+                        ("energy_exponent", "energy_drift_per_orbit", "final_energy_error",
+                         "momentum_exponent", "momentum_drift_per_orbit",
+                         "final_momentum_error", "phase_rate_per_orbit")),
+}
+# Rows whose columns measure only accumulated rounding (kind "rounding").
+ROUNDING_ROWS = {
+    "long-time-invariants": (lambda frame: frame["method"] == "Verlet", ("momentum_error",)),
+    "long-time-drift": (lambda frame: frame["method"] == "Verlet", ("final_momentum_error",)),
+    "theory-constants": (lambda frame: frame["quantity"].str.startswith("conjugacy"),
+                         ("measured",)),
 }
 
 
@@ -155,6 +182,9 @@ def compare_frames(name, old, new):
             kinds = np.full(len(old), kind, dtype=object)
             if column in adaptive_columns:
                 kinds[adaptive] = "adaptive"
+            pick, rounding_columns = ROUNDING_ROWS.get(name, (None, ()))
+            if column in rounding_columns:
+                kinds[np.asarray(pick(old), dtype=bool)] = "rounding"
             differ = np.zeros(len(old), bool)
             for k in set(kinds):
                 rows = kinds == k

@@ -52,11 +52,11 @@ class Problem:
     notes: str = ""
 
     def solve(self, method="spline", h=None, **kwargs):
-        """Integrate with ``method`` "spline" (:func:`splinestep.solve`) or
-        "rk4" (:func:`splinestep.rk4`) at step ``h`` (default: the
+        """Integrate with ``method`` "spline" (:func:`splinestep.solve`),
+        "rk4" (:func:`splinestep.rk4`) or "verlet" (:func:`splinestep.verlet`) at step ``h`` (default: the
         report's step); further keywords go to the solver."""
-        from .. import rk4, solve
-        solvers = {"spline": solve, "rk4": rk4}
+        from .. import rk4, solve, verlet
+        solvers = {"spline": solve, "rk4": rk4, "verlet": verlet}
         if method not in solvers:
             raise ValueError(f"method must be one of {tuple(solvers)}, got {method!r}")
         if method == "spline" and kwargs.get("iteration") == "newton" and "jac" not in kwargs:

@@ -1,0 +1,168 @@
+"""The method's theory, derived by sympy: local errors, the two-step
+recurrence and its order, the oscillator's amplification matrix, the
+higher-degree splines' recurrences, and the modified potential and energy
+of the Verlet conjugacy.
+
+Each function returns sympy expressions; ``notebooks/06_theory`` shows the
+derivations and ``tests/test_theory.py`` checks every constant against a
+measurement made with the package.  Needs sympy (``pip install
+splinestep[theory]``).
+
+References
+----------
+.. [1] P. Henrici, "Discrete Variable Methods in Ordinary Differential
+   Equations", Wiley (1962), Ch. 6 (multistep methods for y'' = f(t, y)).
+.. [2] E. Hairer, S. P. Norsett, G. Wanner, "Solving Ordinary Differential
+   Equations I", 2nd ed., Springer (1993), Secs. II.3 and III.10.
+.. [3] E. Hairer, C. Lubich, G. Wanner, "Geometric Numerical Integration",
+   2nd ed., Springer (2006), Chs. IX and XI.
+.. [4] F. R. Loscalzo, T. D. Talbot, "Spline function approximations for
+   solutions of ordinary differential equations", SIAM J. Numer. Anal. 4
+   (1967) 433-445.
+"""
+
+import sympy as sp
+
+h, x, zeta = sp.symbols("h x zeta")
+# Derivatives y^(j) of the exact solution at t_i, and F's partial
+# derivatives dF/dy = p, dF/dy' = q (scalars: the leading terms are the
+# same per component).
+Y = sp.symbols("y0:7")
+p, q = sp.symbols("p q")
+
+
+def _taylor(j, step, order=7):
+    """y^(j)(t_i + step) as a Taylor polynomial in ``step``."""
+    return sum(Y[j + k] * step ** k / sp.factorial(k) for k in range(order - j))
+
+
+def local_errors(order=5):
+    """Leading terms of the one-step errors of the spline step started
+    from exact values: (err_y, err_yp), series in h.
+
+    The step solves z = F(t + h, a(z), b(z)) with a(z) = y + h y' + h^2
+    (y''/3 + z/6), b(z) = y' + h (y'' + z)/2.  Writing the exact values as
+    Taylor series and z = y''(t + h) + dz, where F's change is linearised
+    (dz = p da + q db, exact to the orders shown), gives the errors
+    a - y(t + h) and b - y'(t + h)."""
+    da, db = sp.symbols("da db")
+    z_exact = _taylor(2, h)
+    dz = p * da + q * db
+    a = Y[0] + h * Y[1] + h ** 2 * (Y[2] / 3 + (z_exact + dz) / 6)
+    b = Y[1] + h * (Y[2] + z_exact + dz) / 2
+    solution = sp.solve([sp.Eq(da, a - _taylor(0, h)), sp.Eq(db, b - _taylor(1, h))], [da, db])
+    return tuple(sp.series(solution[v], h, 0, order + (v is da)).removeO().expand()
+                 for v in (da, db))
+
+
+def two_step():
+    """For y'' = f(t, y): eliminate y' from two consecutive steps.
+
+    Returns (rho, sigma, residual): the characteristic polynomials of
+    sum_j alpha_j y_{n+j} = h^2 sum_j beta_j f_{n+j} (in zeta, j = 0, 1, 2),
+    and the residual of that relation on the step equations with symbolic
+    y_n, y'_n, f_n (zero when the elimination is right)."""
+    yy = sp.symbols("Y0:3")
+    vv = sp.symbols("V0:3")
+    ff = sp.symbols("f0:3")
+    # two steps: n -> n+1 and n+1 -> n+2
+    step_y = [sp.Eq(yy[j + 1], yy[j] + h * vv[j] + h ** 2 * (ff[j] / 3 + ff[j + 1] / 6))
+              for j in range(2)]
+    step_v = [sp.Eq(vv[j + 1], vv[j] + h * (ff[j] + ff[j + 1]) / 2) for j in range(2)]
+    alpha = (1, -2, 1)
+    beta = (sp.Rational(1, 6), sp.Rational(2, 3), sp.Rational(1, 6))
+    lhs = sum(a * yy[j] for j, a in enumerate(alpha)) - h ** 2 * sum(
+        b * ff[j] for j, b in enumerate(beta))
+    known = sp.solve(step_y + step_v[:1], [yy[1], yy[2], vv[1]], dict=True)[0]
+    residual = sp.simplify(lhs.subs(known))
+    rho = sum(a * zeta ** j for j, a in enumerate(alpha))
+    sigma = sum(b * zeta ** j for j, b in enumerate(beta))
+    return rho, sigma, residual
+
+
+def error_constants(rho_coeffs, sigma_coeffs, up_to=7):
+    """C_k of a linear multistep method for y'' = f (Henrici's order
+    conditions): L[y](t) = sum_k C_k h^k y^(k)(t), with
+    C_k = sum_j alpha_j j^k / k! - sum_j beta_j j^(k-2) / (k-2)!.
+    The method has order p when C_0 = ... = C_{p+1} = 0; C_{p+2} is its
+    error constant (taken about t_n, the first point)."""
+    out = []
+    for k in range(up_to):
+        c = sum(a * sp.Integer(j) ** k for j, a in enumerate(rho_coeffs)) / sp.factorial(k)
+        if k >= 2:
+            c -= sum(b * sp.Integer(j) ** (k - 2)
+                     for j, b in enumerate(sigma_coeffs)) / sp.factorial(k - 2)
+        out.append(sp.nsimplify(c))
+    return out
+
+
+def amplification(beta=sp.Rational(1, 6)):
+    """The matrix M with (y_{n+1}, h y'_{n+1}) = M (y_n, h y'_n) for
+    Newmark's method (gamma = 1/2, parameter ``beta``) on y'' = -omega^2 y,
+    as a function of x = omega h."""
+    y0, v0, z = sp.symbols("y_n v_n z")           # v = h y'
+    ypp0 = -x ** 2 * y0 / h ** 2
+    a = y0 + v0 + h ** 2 * ((sp.Rational(1, 2) - beta) * ypp0 + beta * z)
+    zsol = sp.solve(sp.Eq(z, -x ** 2 / h ** 2 * a), z)[0]
+    y1 = sp.simplify(a.subs(z, zsol))
+    v1 = sp.simplify(v0 + h ** 2 * (ypp0 + zsol) / 2)
+    return sp.Matrix([[sp.diff(y1, y0), sp.diff(y1, v0)], [sp.diff(v1, y0), sp.diff(v1, v0)]])
+
+
+def period_error(cos_theta, terms=2):
+    """T_h / T - 1 = x / theta - 1 as a series in x (``terms`` terms),
+    where cos(theta) = ``cos_theta`` (an expression in x) is the rotation
+    per step: theta = x (1 + a_1 x^2 + a_2 x^4 + ...), with the a_k matched
+    order by order in cos(theta) - cos_theta = 0."""
+    a = sp.symbols(f"a1:{terms + 1}")
+    theta = x * (1 + sum(ak * x ** (2 * k + 2) for k, ak in enumerate(a)))
+    top = 2 * terms + 3
+    mismatch = sp.expand(sp.series(sp.cos(theta) - cos_theta, x, 0, top).removeO())
+    values = {}
+    for k, ak in enumerate(a):
+        values[ak] = sp.solve(mismatch.coeff(x, 2 * k + 4).subs(values), ak)[0]
+    ratio = sp.series(x / theta.subs(values), x, 0, 2 * terms + 1).removeO()
+    return sp.expand(ratio - 1)
+
+
+def spline_step_matrix(degree, lam=None, mu=None, first_order=False):
+    """The linear map of the C^{k-1} spline of degree k = ``degree``
+    collocating y'' = lam y + mu y' (or, with ``first_order``, y' = lam y)
+    at every knot, on the state (p, p', ..., p^{(k-1)}) at the knot.
+
+    Returns the k x k matrix (entries in h, lam, mu)."""
+    k = degree
+    lam = sp.Symbol("lambda") if lam is None else lam
+    mu = sp.Symbol("mu") if mu is None else mu
+    D = sp.symbols(f"D0:{k}")
+    z = sp.Symbol("z")
+    base = [sum(D[l] * h ** (l - j) / sp.factorial(l - j) for l in range(j, k)) for j in range(k)]
+    weight = [sp.factorial(k) / sp.factorial(k - j) * h ** (k - j) for j in range(k)]
+    order = 1 if first_order else 2                # the collocated derivative
+    g = (z - base[order]) / weight[order]
+    new = [base[j] + weight[j] * g for j in range(k)]
+    rhs = lam * new[0] if first_order else lam * new[0] + mu * new[1]
+    zsol = sp.solve(sp.Eq(z, rhs), z)[0]
+    new = [sp.cancel(e.subs(z, zsol)) for e in new]
+    return sp.Matrix([[sp.diff(new[i], D[j]) for j in range(k)] for i in range(k)])
+
+
+def characteristic_at_zero(degree, first_order=False):
+    """The characteristic polynomial of the degree-k spline's recurrence in
+    the limit h -> 0 (zero-stability: its roots), factored."""
+    # With F = 0 (y'' = 0) the map is the h -> 0 limit of every linear F's
+    # (F enters with factors h^2 and h), and its polynomial is free of h.
+    M = spline_step_matrix(degree, lam=0, mu=0, first_order=first_order)
+    return sp.factor(M.charpoly(zeta).as_expr())
+
+
+def modified_potential(V, Q, order=4):
+    """The potential V~ of the force f~(Q) = f(q(Q)), q - h^2 f(q)/6 = Q,
+    f = -V'(q), for a one-dimensional V (an expression in the symbol Q):
+    the series in h up to h^order, by fixed-point substitution."""
+    f = -sp.diff(V, Q)
+    qq = Q
+    for _ in range(order // 2 + 1):
+        qq = sp.series(Q + h ** 2 / 6 * f.subs(Q, qq), h, 0, order + 1).removeO()
+    force = sp.series(f.subs(Q, qq), h, 0, order + 1).removeO()
+    return sp.expand(-sp.integrate(force, Q))

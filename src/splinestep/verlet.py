@@ -1,0 +1,54 @@
+"""The second baseline: Stormer-Verlet in its velocity form, the standard
+second-order method for y'' = f(y), to which the spline stepper is
+conjugate (see ``notebooks/06_theory``)."""
+
+from ._explicit import VERLET, run
+
+
+def verlet(fun, t_span, y0, yp0, h, *, t_eval=None, args=()):
+    """Velocity Verlet for y'' = F(t, y, y').
+
+    One evaluation of F per step::
+
+        y_{n+1}  = y_n + h y'_n + h^2/2 y''_n
+        y''_{n+1} = F(t_{n+1}, y_{n+1}, y'_n + h y''_n)
+        y'_{n+1} = y'_n + h/2 (y''_n + y''_{n+1})
+
+    For F = f(t, y) this is the Stormer-Verlet (leapfrog) method: symmetric,
+    symplectic, of order 2.  When F depends on y', the predictor
+    y'_n + h y''_n stands in for y'_{n+1}; it is O(h^2) off, which changes
+    y'_{n+1} by O(h^3) per step, so the method stays of order 2 (no longer
+    symmetric).
+
+    Parameters
+    ----------
+    fun : callable
+        ``fun(t, y, yp, *args) -> y''``; the loop runs compiled and calls a
+        ``numba.njit`` function directly, a plain one through the
+        interpreter.
+    t_span : (float, float)
+        Interval of integration, t0 < tf.
+    y0, yp0 : float or array_like, shape (m,)
+        Initial value and first derivative.
+    h : float
+        Step.  The last step is shortened to end exactly at tf.
+    t_eval : array_like, optional
+        Sorted times at which to report the solution (cubic Hermite
+        interpolation between steps); the steps are then not stored.
+    args : tuple, optional
+        Extra arguments passed to ``fun``.
+
+    Returns
+    -------
+    OdeResult
+        As :func:`splinestep.rk4`.
+
+    References
+    ----------
+    .. [1] L. Verlet, "Computer 'experiments' on classical fluids. I.",
+       Phys. Rev. 159 (1967) 98-103.
+    .. [2] E. Hairer, C. Lubich, G. Wanner, "Geometric numerical integration
+       illustrated by the Stormer-Verlet method", Acta Numerica 12 (2003)
+       399-450.
+    """
+    return run(VERLET, fun, t_span, y0, yp0, h, t_eval, args)
