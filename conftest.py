@@ -48,3 +48,9 @@ def pytest_runtest_teardown(item, nextitem):
     if stem and (nextitem is None or notebook_of(nextitem) != stem):
         done_marker(stem).parent.mkdir(exist_ok=True)
         done_marker(stem).touch()
+
+
+def pytest_collection_modifyitems(config, items):
+    """Notebooks in ``reproduce.LAST`` after every other test: a worker then
+    never waits for a notebook that it would itself run later."""
+    items.sort(key=lambda item: notebook_of(item) in reproduce.LAST)

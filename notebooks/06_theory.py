@@ -101,7 +101,7 @@ outputs.say(
 
 # %% [markdown]
 # **Convergence.** Henrici's theorem (Discrete Variable Methods, 1962,
-# Thm. 6.5; Hairer, Norsett & Wanner I, Thm. III.10.6) states: a linear
+# Ch. 6; Hairer, Norsett & Wanner I, Sec. III.10) states: a linear
 # multistep method for $y'' = f(t, y)$, with $f$ Lipschitz in $y$, converges
 # with order $p$ if (i) it is consistent of order $p$, (ii) it is
 # zero-stable for second-order equations, i.e. the roots of $\rho$ lie in

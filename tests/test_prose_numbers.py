@@ -93,7 +93,7 @@ def output_numbers(ipynb):
     return [v for text in texts for v, _, _ in numbers_in(text)]
 
 
-SUMMARY_ROWS = 200  # prose quotes summaries: time series (longer files) do not count
+SUMMARY_ROWS = 120  # prose quotes summaries: time series (longer files) do not count
 
 
 def data_numbers():
