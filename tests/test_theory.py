@@ -78,3 +78,13 @@ def test_verlet_is_second_order_with_damping():
     errors = [abs(splinestep.verlet(lambda t, y, yp: -y - 0.5 * yp, (0, 10), 1.0, 0.0, h).y[0, -1]
                   - exact) for h in (0.05, 0.025)]
     assert 1.9 < np.log2(errors[0] / errors[1]) < 2.1
+
+
+def test_solve_degree_names_its_bad_arguments():
+    import pytest
+    f = lambda t, y, yp: -y  # noqa: E731
+    for kwargs, name in ((dict(degree=2), "degree"), (dict(degree=4), "derivatives"),
+                         (dict(degree=4, derivatives=[[0.0, 1.0]]), "derivatives"),
+                         (dict(degree=4, derivatives="x"), "derivatives")):
+        with pytest.raises(ValueError, match=name):
+            solve_degree(f, (0.0, 1.0), 1.0, 0.0, 0.1, **kwargs)

@@ -100,12 +100,11 @@ def solve_degree(fun, t_span, y0, yp0, h, degree, *, derivatives=None, args=(), 
     if extra and derivatives is None:
         raise ValueError(f"derivatives (y''' ... y^({k - 1}) at t0, shape ({extra}, {m})) "
                          f"is required for degree {k}")
-    if derivatives is None:
-        derivatives = np.empty((0, m))
-    derivatives = np.asarray(derivatives, dtype=float).reshape(-1, m) \
-        if np.size(derivatives) == extra * m else None
-    if derivatives is None or not np.all(np.isfinite(derivatives)):
+    derivatives = (np.empty(0) if derivatives is None
+                   else _base._real_array(derivatives, "derivatives"))
+    if derivatives.size != extra * m or not np.all(np.isfinite(derivatives)):
         raise ValueError(f"derivatives must be {extra} x {m} finite numbers for degree {k}")
+    derivatives = derivatives.reshape(extra, m)
     fun_value = _base.check_fun(fun, t0, y0, yp0, args)
 
     D = np.vstack([y0, yp0, fun_value, derivatives])
