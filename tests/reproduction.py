@@ -33,9 +33,18 @@ numbers, not from the digits one machine printed:
     flip on another CPU (measured: a relative 2.8e-3 in the error at rtol
     1e-11).  They compare to a relative 5e-2, which still separates one
     tolerance setting from the next (a factor of 10 apart).
+``adaptive-long``
+    The same over a long run (DOP853 over 1,000 orbits): once one decision
+    has flipped, the two runs take different step sequences for the rest of
+    the run, so their accumulated errors agree only in size.  Measured
+    between an Intel AVX-512 and an AMD EPYC machine: invariant errors at
+    late orbits 22 % apart, growth exponents 0.01 apart.  They compare to a
+    factor of 2 (a drifting error grows by 1000 over the run, so a drift
+    and a bounded error stay apart), exponents to 0.1.
 """
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -48,6 +57,7 @@ class Tolerance:
     rtol: float = 0.0        # relative to each value
     atol: float = 0.0        # absolute
     scale_rtol: float = 0.0  # relative to the largest |value| of the column
+    factor: float = 0.0      # if set: positive values within this factor, others to atol
 
     def mismatch(self, old, new):
         """Boolean array: where ``new`` does not reproduce ``old``."""
@@ -57,7 +67,13 @@ class Tolerance:
         scale = finite.max() if finite.size else 0.0
         bound = self.rtol * np.abs(old) + self.atol + self.scale_rtol * scale
         both_nan = np.isnan(old) & np.isnan(new)
-        return ~both_nan & ~(np.abs(new - old) <= bound)
+        close = np.abs(new - old) <= bound
+        if self.factor:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ratio = np.abs(np.log(new / old))
+            positive = (old > 0) & (new > 0)
+            close = np.where(positive, ratio <= np.log(self.factor), close)
+        return ~both_nan & ~close
 
 
 TOLERANCES = {
@@ -66,6 +82,8 @@ TOLERANCES = {
     "state": Tolerance(scale_rtol=1e-9),
     "error": Tolerance(rtol=1e-4, atol=ROUNDING_FLOOR),
     "adaptive": Tolerance(rtol=5e-2, atol=ROUNDING_FLOOR),
+    "adaptive-long": Tolerance(factor=2.0, atol=ROUNDING_FLOOR),
+    "adaptive-long-exponent": Tolerance(atol=0.1),
     # Quantities a method conserves exactly, whose error is the rounding
     # accumulated over up to 4e7 steps (at most about N eps = 1e-8).
     "rounding": Tolerance(atol=1e-8),
@@ -133,12 +151,18 @@ ADAPTIVE_ROWS = {
                        "most_tested", "error_at_most")),
     "work-precision-ratios": (lambda frame: frame["baseline"].str.startswith("scipy"),
                               ("ratio_min", "ratio_max")),
+}
+# Rows of long adaptive runs, and their columns' kinds there.
+ADAPTIVE_LONG_ROWS = {
     "long-time-invariants": (lambda frame: frame["method"].str.startswith("DOP853"),
-                             ("energy_error", "momentum_error", "angle_error")),
+                             dict(energy_error="adaptive-long", momentum_error="adaptive-long")),
     "long-time-drift": (lambda frame: frame["method"].str.startswith("DOP853"),
-                        ("energy_exponent", "energy_drift_per_orbit", "final_energy_error",
-                         "momentum_exponent", "momentum_drift_per_orbit",
-                         "final_momentum_error", "phase_rate_per_orbit")),
+                        dict(energy_exponent="adaptive-long-exponent",
+                             energy_drift_per_orbit="adaptive-long",
+                             final_energy_error="adaptive-long",
+                             momentum_exponent="adaptive-long-exponent",
+                             momentum_drift_per_orbit="adaptive-long",
+                             final_momentum_error="adaptive-long")),
 }
 # Rows whose columns measure only accumulated rounding (kind "rounding").
 ROUNDING_ROWS = {
@@ -182,6 +206,9 @@ def compare_frames(name, old, new):
             kinds = np.full(len(old), kind, dtype=object)
             if column in adaptive_columns:
                 kinds[adaptive] = "adaptive"
+            pick, long_columns = ADAPTIVE_LONG_ROWS.get(name, (None, {}))
+            if column in long_columns:
+                kinds[np.asarray(pick(old), dtype=bool)] = long_columns[column]
             pick, rounding_columns = ROUNDING_ROWS.get(name, (None, ()))
             if column in rounding_columns:
                 kinds[np.asarray(pick(old), dtype=bool)] = "rounding"
@@ -206,11 +233,15 @@ def compare_frames(name, old, new):
 FIGURE_SHIFT = 1
 FIGURE_COLOUR = 0.2
 FIGURE_PIXELS = 20
+# Figures that plot "adaptive-long" data: DOP853's curve there moves with
+# the CPU (22 % measured, 0.09 decade), which is 3.5 pixels on that figure's
+# log axes (38 pixels per decade); 5 pixels allow 0.13 decade.
+FIGURE_SHIFTS = {"long-time-invariants": 5}
 
 
-def unmatched_pixels(old_png, new_png):
-    """Number of pixels of ``new_png`` with no match in ``old_png`` (see
-    above), or None when the sizes differ."""
+def unmatched_pixels(old_png, new_png, shift=FIGURE_SHIFT):
+    """Number of pixels of ``new_png`` with no match within ``shift`` pixels in
+    ``old_png`` (see above), or None when the sizes differ."""
     from matplotlib.image import imread
     old, new = imread(old_png)[..., :3], imread(new_png)[..., :3]
     if old.shape != new.shape:
@@ -218,7 +249,7 @@ def unmatched_pixels(old_png, new_png):
     # A pixel equal to the one at the same place is matched: search only
     # around the others.
     rows, cols = np.nonzero(np.any(new != old, axis=2))
-    k = FIGURE_SHIFT
+    k = shift
     padded = np.pad(old, ((k, k), (k, k), (0, 0)), mode="edge")
     best = np.full(rows.size, np.inf)
     for dy in range(2 * k + 1):
@@ -231,6 +262,7 @@ def unmatched_pixels(old_png, new_png):
 def figures_match(old_png, new_png):
     """True when ``new_png`` reproduces ``old_png`` under the rule above
     (checked both ways, so nothing may appear or vanish)."""
-    there = unmatched_pixels(old_png, new_png)
-    back = unmatched_pixels(new_png, old_png)
+    shift = FIGURE_SHIFTS.get(Path(old_png).stem, FIGURE_SHIFT)
+    there = unmatched_pixels(old_png, new_png, shift)
+    back = unmatched_pixels(new_png, old_png, shift)
     return there is not None and there <= FIGURE_PIXELS and back <= FIGURE_PIXELS

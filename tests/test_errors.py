@@ -1,11 +1,14 @@
 """Bad input is refused with the argument's name; a run that fails part way
 stops, says where and why, and returns only the steps it completed."""
 
+import warnings
+
 import numpy as np
 import pytest
 from numba import njit
 
 import splinestep
+from splinestep import problems
 
 f = lambda t, y, yp: -y
 
@@ -92,6 +95,21 @@ def test_wrong_shape_later_in_the_run_is_a_failure_not_a_crash():
     res = splinestep.solve(changes_shape, (0, 1), [1.0, 2.0], [0.0, 0.0], 0.1)
     assert res.status == -1 and "wrong shape" in res.message and "Step 4 " in res.message
     assert res.nstep == 3
+
+
+@pytest.mark.parametrize("x", [2.5, 2.584])
+def test_diverging_sweep_that_overflows_is_a_failure(x):
+    """Past w h = sqrt(6) the sweep's iterates grow by (w h)^2/6 per
+    iteration; given enough iterations they overflow.  An infinite iterate
+    must end the step as a failure, not pass the relative convergence test
+    (|change| <= tol * inf) as a converged step of size 1e308."""
+    problem = problems.harmonic(1.0, t_span=(0.0, x), h=x)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = problem.solve(max_iter=10**6)
+    assert res.status == -1 and "diverged" in res.message
+    assert res.niter < 10**5  # ended at the overflow, not at max_iter
+    assert np.all(np.isfinite(res.y)) and res.t.tolist() == [0.0]
 
 
 def test_nonconvergence_names_step_and_time():

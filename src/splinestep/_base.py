@@ -27,6 +27,7 @@ NOT_CONVERGED = 1
 NON_FINITE = 2
 BAD_SHAPE = 3
 SINGULAR = 4
+DIVERGED = 5
 
 _FAILURES = {
     NOT_CONVERGED: "the iteration did not converge in {max_iter} iterations",
@@ -34,6 +35,7 @@ _FAILURES = {
     BAD_SHAPE: "the right-hand side returned an array of the wrong shape "
                "(expected shape ({m},))",
     SINGULAR: "the Newton matrix is singular or its solution is not finite",
+    DIVERGED: "the iteration diverged (an iterate of y or y' is not finite)",
 }
 
 
@@ -43,6 +45,8 @@ _HINTS = {
                    "converges only while h^2/6 |dF/dy| + h/2 |dF/dyp| < 1).",
     SINGULAR: " Try a smaller h: the step equation may have no solution at this h.",
     NON_FINITE: " The solution may blow up here, or the step may be too large.",
+    DIVERGED: " Try a smaller h, or iteration=\"newton\" (the fixed-point sweep "
+              "converges only while h^2/6 |dF/dy| + h/2 |dF/dyp| < 1).",
 }
 
 

@@ -25,8 +25,8 @@ from numba import njit
 
 from . import _base, _compile, check
 from .events import check_events, locate
-from ._base import (BAD_SHAPE, FD_STEP, NON_FINITE, NOT_CONVERGED, OK, SINGULAR, as_vector,
-                    wrong_length)
+from ._base import (BAD_SHAPE, DIVERGED, FD_STEP, NON_FINITE, NOT_CONVERGED, OK, SINGULAR,
+                    as_vector, wrong_length)
 from .result import SplineSolution
 
 # The two coefficients of the unknown z in eqs. 6-7, as multiples of h^2 and h.
@@ -192,6 +192,11 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0,
                 y_new[k] = base_y[k] + wy * z[k]
                 yp_new[k] = base_yp[k] + wyp * z[k]
                 size = max(size, abs(y_new[k]), abs(yp_new[k]))
+            if not size < np.inf:
+                # A diverging sweep overflows; an infinite size would pass the
+                # relative convergence test below.
+                status = DIVERGED
+                break
             g = as_vector(fun(t_new, y_new, yp_new, *args))
             nfev += 1
             if wrong_length(g, m):
