@@ -168,7 +168,10 @@ ADAPTIVE_LONG_ROWS = {
 ROUNDING_ROWS = {
     "long-time-invariants": (lambda frame: frame["method"] == "Verlet", ("momentum_error",)),
     "long-time-drift": (lambda frame: frame["method"] == "Verlet", ("final_momentum_error",)),
-    "theory-constants": (lambda frame: frame["quantity"].str.startswith("conjugacy"),
+    # The conjugacy gap and the rigid body's energy balance are rounding
+    # (a change of rounding in the step moved the latter by 4 %).
+    "theory-constants": (lambda frame: frame["quantity"].str.startswith(("conjugacy",
+                                                                          "rigid body: E")),
                          ("measured",)),
 }
 

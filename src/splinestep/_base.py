@@ -148,8 +148,8 @@ def check_grid(t0, tf, h, knots):
     and a step larger than the span becomes one step over the span.  For
     explicit knots, ``h`` is their largest spacing (signed).
     """
-    if (h is None) == (knots is None):
-        raise ValueError("give exactly one of h and knots")
+    if h is not None and knots is not None:
+        raise ValueError("give h or knots, not both (neither: adaptive knots)")
     direction = 1.0 if tf > t0 else -1.0
     if knots is not None:
         knots = _real_array(knots, "knots")
@@ -180,6 +180,33 @@ def check_grid(t0, tf, h, knots):
                       f"{24 * n / 2**30:.3g} GiB per component (pass t_eval to store fewer)",
                       UserWarning, stacklevel=3)
     return direction * min(h, span), n, np.empty(0)
+
+
+def check_tolerances(rtol, atol, first_step, max_step, max_steps, m):
+    """Validate the adaptive driver's settings; returns (rtol, atol as an
+    (m,) vector, first_step (0 when chosen automatically), max_step,
+    max_steps)."""
+    if not (isinstance(rtol, numbers.Real) and np.isfinite(rtol) and rtol > 0):
+        raise ValueError(f"rtol must be a positive finite number, got {rtol!r}")
+    atol_array = _real_array(atol, "atol")
+    if atol_array.shape not in ((1,), (m,)) or np.ndim(atol) > 1:
+        raise ValueError(f"atol must be a number or an array of shape ({m},), "
+                         f"got shape {np.shape(atol)}")
+    if not np.all(np.isfinite(atol_array) & (atol_array > 0)):
+        raise ValueError(f"atol must be positive and finite, got {atol!r}")
+    if first_step is None:
+        first_step = 0.0
+    elif not (isinstance(first_step, numbers.Real) and np.isfinite(first_step)
+              and first_step > 0):
+        raise ValueError(f"first_step must be None or a positive finite number, "
+                         f"got {first_step!r}")
+    if not (isinstance(max_step, numbers.Real) and max_step > 0) or np.isnan(max_step):
+        raise ValueError(f"max_step must be a positive number (inf: no limit), "
+                         f"got {max_step!r}")
+    if not (isinstance(max_steps, (int, np.integer)) and max_steps >= 1):
+        raise ValueError(f"max_steps must be an integer >= 1, got {max_steps!r}")
+    return (float(rtol), np.array(np.broadcast_to(atol_array, (m,)), dtype=float),
+            float(first_step), float(max_step), int(max_steps))
 
 
 def check_t_eval(t_eval, t0, tf):
@@ -313,6 +340,11 @@ def choose_path(fun, jac, args):
         return "plain"
     check_compiled_args(args)
     return "compiled"
+
+
+def failure(status, max_iter, m):
+    """What a step status means, for a message."""
+    return _FAILURES[status].format(max_iter=max_iter, m=m)
 
 
 def build_result(out, t_eval, max_iter):

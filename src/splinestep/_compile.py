@@ -85,6 +85,8 @@ VECTOR = types.float64[::1]
 FLOAT = types.float64
 INT = types.int64
 BOOL = types.boolean
+INT_VECTOR = types.int64[::1]
+MATRIX = types.float64[:, ::1]
 
 # (python loop, argument types) -> numba dispatcher compiled for those types
 _LOOPS = {}
@@ -147,6 +149,13 @@ def _python_fun(t, y, yp, key):
 
 
 @njit(cache=True)
+def _python_scalar(t, y, yp, key):
+    with objmode(g="float64"):
+        g = float(_FUNS[key](t, y, yp))
+    return g
+
+
+@njit(cache=True)
 def _python_jac(t, y, yp, key):
     with objmode(fy="float64[:, ::1]", fyp="float64[:, ::1]"):
         fy, fyp = _call_jac(key, t, y, yp)
@@ -183,6 +192,26 @@ def python_callbacks(fun, jac, args):
     finally:
         _FUNS.pop(key, None)
         _JACS.pop(key, None)
+
+
+def scalar_callable(path, f, args):
+    """A context giving a scalar function ``f(t, y, yp, *args)`` (a step-size
+    control) in the form a compiled loop calls it: ``(f, args)`` when ``f``
+    is compiled and the loop runs on the compiled path, else a trampoline
+    into the interpreter and the number that finds ``f``."""
+    if path == "compiled" and isinstance(f, type(_python_scalar)):
+        return contextlib.nullcontext((f, args))
+    return _scalar_callback(f, args)
+
+
+@contextlib.contextmanager
+def _scalar_callback(f, args):
+    key = float(next(_KEYS))
+    _FUNS[key] = lambda t, y, yp: f(t, y, yp, *args)
+    try:
+        yield _python_scalar, (key,)
+    finally:
+        _FUNS.pop(key, None)
 
 
 def loop_callables(path, fun, jac, args):

@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 
 from . import _base
-from .spline import Y_WEIGHT, _lu_solve
+from .step import Y_WEIGHT, solve_linear
 
 # Newton's method for y from Y: stop when the correction is below this
 # times max(1, |y|), or after NEWTON_ITERATIONS (quadratic convergence from
@@ -76,7 +76,7 @@ def modified_force(fun, jac, h, args=()):
             for k in range(m):
                 r[k] = Y[k] - y[k] + weight * g[k]
                 size = max(size, abs(y[k]))
-            dy = _lu_solve(a, r)
+            dy = solve_linear(a, r)
             change = 0.0
             for k in range(m):
                 y[k] += dy[k]

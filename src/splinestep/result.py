@@ -78,3 +78,24 @@ class SplineSolution:
             raise ValueError(
                 f"t must lie in the integration span [{self.t_min}, {self.t_max}]")
         return np.moveaxis(self.ppoly(t, nu), -1, 0)
+
+
+class HermiteSolution(SplineSolution):
+    """The quintic Hermite interpolant through the knots' values and first
+    two derivatives: the dense output of a composed (order 4 or 6) run,
+    accurate to O(h^6) between knots, so to the run's order.  Called as
+    :class:`SplineSolution` (``nu`` in 0..5); continuous with its first two
+    derivatives at the knots.
+    """
+
+    def __init__(self, knots, y, yp, ypp):
+        h = np.diff(knots)[:, None]
+        p0, v0, a0, p1, v1, a1 = y[:-1], yp[:-1], ypp[:-1], y[1:], yp[1:], ypp[1:]
+        rp = p1 - p0 - h * (v0 + 0.5 * h * a0)
+        rv = (v1 - v0 - h * a0) * h
+        ra = (a1 - a0) * h ** 2
+        c3 = (10 * rp - 4 * rv + 0.5 * ra) / h ** 3
+        c4 = (-15 * rp + 7 * rv - ra) / h ** 4
+        c5 = (6 * rp - 3 * rv + 0.5 * ra) / h ** 5
+        self.ppoly = PPoly(np.stack([c5, c4, c3, 0.5 * a0, v0, p0]), knots, extrapolate=False)
+        self.t_min, self.t_max = min(knots[0], knots[-1]), max(knots[0], knots[-1])

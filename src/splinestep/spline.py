@@ -21,63 +21,41 @@ method.
 import warnings
 
 import numpy as np
-from numba import njit
 
-from . import _base, _compile, check
+from . import _base, _compile, adaptive, check
 from .events import check_events, locate
-from ._base import (BAD_SHAPE, DIVERGED, FD_STEP, NON_FINITE, NOT_CONVERGED, OK, SINGULAR,
-                    as_vector, wrong_length)
-from .result import SplineSolution
+from ._base import BAD_SHAPE, NON_FINITE, OK, as_vector, wrong_length
+from .result import HermiteSolution, SplineSolution
+from .step import (ERR_Y, ERR_YP, FIXED_POINT, NEWTON, YP_WEIGHT, Y_WEIGHT, composed_step,
+                   newton_state, quintic)
 
-# The two coefficients of the unknown z in eqs. 6-7, as multiples of h^2 and h.
-Y_WEIGHT = 1.0 / 6.0   # d a_{i+1} / d z = h^2 / 6
-YP_WEIGHT = 0.5        # d b_{i+1} / d z = h / 2
+ITERATIONS = ("fixed-point", "newton", "global")
 
-# Leading local errors of one step from exact values when y'''' is
-# constant: the step misses h^4 y''''/24 in y and h^3 y''''/12 in y'
-# (Taylor expansion of eqs. 6-7, checked in tests/test_error_estimate.py).
-ERR_Y = 1.0 / 24.0
-ERR_YP = 1.0 / 12.0
+# Symmetric compositions raising the order of a symmetric one-step method
+# (weights of the sub-steps, each a multiple of the step): Yoshida's triple
+# jump for order 4 and his 7-stage solution A for order 6.
+_CBRT2 = 2.0 ** (1.0 / 3.0)
+_YOSHIDA6 = (0.784513610477560, 0.235573213359357, -1.17767998417887)
+COMPOSITIONS = {
+    2: (1.0,),
+    4: (1.0 / (2.0 - _CBRT2), -_CBRT2 / (2.0 - _CBRT2), 1.0 / (2.0 - _CBRT2)),
+    6: _YOSHIDA6 + (1.0 - 2.0 * sum(_YOSHIDA6),) + _YOSHIDA6[::-1],
+}
 
-ITERATIONS = ("fixed-point", "newton")
-# Loop modes: the iteration, and whether it runs a fixed number of times.
-FIXED_POINT, NEWTON = 0, 1
 
-
-@njit(cache=True, error_model="numpy")
-def _lu_solve(a, b):
-    """Solve a x = b by LU factorisation with partial pivoting (Gaussian
-    elimination, overwriting a and b).  Written out because numba's LAPACK
-    binding (np.linalg.solve) multiplies the compile time of the step loop
-    by four; a singular matrix gives a non-finite x."""
-    m = b.shape[0]
-    for col in range(m):
-        piv = col
-        for row in range(col + 1, m):
-            if abs(a[row, col]) > abs(a[piv, col]):
-                piv = row
-        if piv != col:
-            for k in range(m):
-                a[col, k], a[piv, k] = a[piv, k], a[col, k]
-            b[col], b[piv] = b[piv], b[col]
-        for row in range(col + 1, m):
-            factor = a[row, col] / a[col, col]
-            for k in range(col, m):
-                a[row, k] -= factor * a[col, k]
-            b[row] -= factor * b[col]
-    x = np.empty(m)
-    for row in range(m - 1, -1, -1):
-        acc = b[row]
-        for k in range(row + 1, m):
-            acc -= a[row, k] * x[k]
-        x[row] = acc / a[row, row]
-    return x
+def composition(order):
+    """(weights, slots) of the composition of ``order``: the sub-steps'
+    sizes as fractions of the step, and for each the index of its distinct
+    size (sub-steps of one size share a kept Newton matrix)."""
+    weights = np.array(COMPOSITIONS[order])
+    distinct = list(dict.fromkeys(weights.tolist()))
+    return weights, np.array([distinct.index(w) for w in weights.tolist()], dtype=np.int64)
 
 
 # Compiled once per signature and cached on disk by splinestep._compile, for
 # compiled and plain-Python right-hand sides alike.
 def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0, t_eval,
-                 store_knots, mode, n_iter, until_converged, tol):
+                 store_knots, mode, n_iter, until_converged, tol, reuse, weights, slots):
     """Step from t0 to tf, forwards or backwards (h and the knots carry the
     direction).  Compiled by numba for every ``fun``: a compiled one is
     called directly, a plain-Python one through ``_compile.python_callbacks``.  Component
@@ -111,9 +89,9 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0,
     yp = yp0.copy()          # b_i
     ypp = np.zeros(m)        # 2 c_i
     jerk = np.zeros(m)       # 6 d on the last interval
-    base_y = np.empty(m)     # a_{i+1} without the unknown's term
-    base_yp = np.empty(m)    # b_{i+1} without the unknown's term
     z = np.empty(m)          # the unknown y''_{i+1} = 2 c_{i+1}
+    lu, piv, info = newton_state(m, np.max(slots) + 1)  # kept Newton matrices
+    composed = weights.shape[0] > 1
     y_new = np.empty(m)
     yp_new = np.empty(m)
     y_at_err = y0.copy()
@@ -178,99 +156,31 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0,
         else:
             t_new = tf
         dt = t_new - t
-        wy = Y_WEIGHT * dt * dt
-        wyp = YP_WEIGHT * dt
-        w_max = max(wy, abs(wyp))
-        for k in range(m):
-            base_y[k] = y[k] + dt * yp[k] + (dt * dt / 3.0) * ypp[k]
-            base_yp[k] = yp[k] + wyp * ypp[k]
-            z[k] = ypp[k]  # the report's initial guess d_i = 0
-        status = NOT_CONVERGED if until_converged else OK
-        for _ in range(n_iter):
-            size = 0.0
-            for k in range(m):
-                y_new[k] = base_y[k] + wy * z[k]
-                yp_new[k] = base_yp[k] + wyp * z[k]
-                size = max(size, abs(y_new[k]), abs(yp_new[k]))
-            if not size < np.inf:
-                # A diverging sweep overflows; an infinite size would pass the
-                # relative convergence test below.
-                status = DIVERGED
-                break
-            g = as_vector(fun(t_new, y_new, yp_new, *args))
-            nfev += 1
-            if wrong_length(g, m):
-                status = BAD_SHAPE
-                break
-            if mode == FIXED_POINT:
-                # Sweep: eq. 9 gives the new c_{i+1} = z / 2 (eq. 8 then d_i).
-                change = 0.0
-                for k in range(m):
-                    if not abs(g[k]) < np.inf:
-                        status = NON_FINITE
-                    change = max(change, abs(g[k] - z[k]))
-                    z[k] = g[k]
-                if status == NON_FINITE:
-                    break
-            else:
-                # Newton on R(z) = z - F(t, a(z), b(z)) = 0 with J = I - dF/dz.
-                for k in range(m):
-                    if not abs(g[k]) < np.inf:
-                        status = NON_FINITE
-                if status == NON_FINITE:
-                    break
-                if jac is None:
-                    dgdz = np.empty((m, m))
-                    for k in range(m):
-                        step = FD_STEP * max(1.0, abs(z[k]))
-                        saved = z[k]
-                        z[k] = saved + step
-                        for j in range(m):
-                            y_new[j] = base_y[j] + wy * z[j]
-                            yp_new[j] = base_yp[j] + wyp * z[j]
-                        gk = as_vector(fun(t_new, y_new, yp_new, *args))
-                        z[k] = saved
-                        for j in range(m):
-                            dgdz[j, k] = (gk[j] - g[j]) / step
-                    nfev += m
-                else:
-                    fy, fyp = jac(t_new, y_new, yp_new, *args)
-                    njev += 1
-                    dgdz = wy * np.asarray(fy) + wyp * np.asarray(fyp)
-                residual = np.empty(m)
-                for k in range(m):
-                    residual[k] = g[k] - z[k]
-                dz = _lu_solve(np.eye(m) - dgdz, residual)
-                change = 0.0
-                for k in range(m):
-                    if not abs(dz[k]) < np.inf:
-                        status = SINGULAR
-                    change = max(change, abs(dz[k]))
-                    z[k] += dz[k]
-                if status == SINGULAR:
-                    break
-            niter += 1
-            if until_converged and w_max * change <= tol * size:
-                status = OK
-                break
-        if status == OK:
-            for k in range(m):
-                if not abs(base_y[k] + wy * z[k]) < np.inf:
-                    status = NON_FINITE
+        status, fe, je, it = composed_step(fun, args, jac, t, dt, weights, slots, y, yp, ypp, z,
+                                           y_new, yp_new, mode, n_iter, until_converged, tol,
+                                           reuse, lu, piv, info)
+        nfev += fe
+        njev += je
+        niter += it
         if status != OK:
             return ((status, i + 1, t, t_new, nfev, njev, niter, i, n_knots, n_eval,
                      T, Y, YP, YPP, YE, YPE, YPPE),
                     (err_y, t_err_y, err_yp, y_scale, yp_scale, y_at_err, yp_at_err,
                      y, yp, ypp, jerk, dt_prev))
-
-        # Report at the requested times inside (t, t_new] from the cubic itself.
+        # Report at the requested times inside (t, t_new] from the cubic
+        # itself, or for a composed step from the quintic through the knots'
+        # values and first two derivatives (of the composition's order).
         while n_eval < ne and direction * (t_eval[n_eval] - t_new) <= 0.0:
             s = t_eval[n_eval] - t
             for k in range(m):
-                d = (z[k] - ypp[k]) / (6.0 * dt)
-                YE[n_eval, k] = y[k] + s * (yp[k] + s * (0.5 * ypp[k] + s * d))
-                YPE[n_eval, k] = yp[k] + s * (ypp[k] + 3.0 * s * d)
-                YPPE[n_eval, k] = ypp[k] + 6.0 * s * d
+                if composed:
+                    YE[n_eval, k], YPE[n_eval, k], YPPE[n_eval, k] = quintic(
+                        s, dt, y[k], yp[k], ypp[k], y_new[k], yp_new[k], z[k])
+                else:
+                    d = (z[k] - ypp[k]) / (6.0 * dt)
+                    YE[n_eval, k] = y[k] + s * (yp[k] + s * (0.5 * ypp[k] + s * d))
+                    YPE[n_eval, k] = yp[k] + s * (ypp[k] + 3.0 * s * d)
+                    YPPE[n_eval, k] = ypp[k] + 6.0 * s * d
             n_eval += 1
         # Local error estimate: y''' is constant on each interval, so its
         # jump at the knot t over the mean of the two steps estimates y''''.
@@ -293,8 +203,8 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0,
         have_jerk = True
         dt_prev = dt
         for k in range(m):
-            y[k] = base_y[k] + wy * z[k]
-            yp[k] = base_yp[k] + wyp * z[k]
+            y[k] = y_new[k]
+            yp[k] = yp_new[k]
             ypp[k] = z[k]
             y_scale = max(y_scale, abs(y[k]))
             yp_scale = max(yp_scale, abs(yp[k]))
@@ -314,7 +224,8 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0,
 
 def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), events=None,
           iteration="fixed-point", iterations=None, tol=1e-12, max_iter=50,
-          jac=None, dense_output=False):
+          jac=None, dense_output=False, order=2, rtol=1e-3, atol=1e-6, first_step=None,
+          max_step=np.inf, max_steps=10**7, reuse_jacobian=True):
     """Solve y'' = F(t, y, y') by cubic-spline time stepping.
 
     Each step extends a C2 cubic spline by one knot and satisfies the ODE at
@@ -355,14 +266,18 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         Functions ``g(t, y, yp, *args)`` whose zeros are located on the
         spline, with the optional attributes ``terminal`` and ``direction``
         of scipy's ``solve_ivp`` (see :mod:`splinestep.events`).
-    iteration : {"fixed-point", "newton"}
+    iteration : {"fixed-point", "newton", "global"}
         How the step equation is solved.  "fixed-point" is the report's
         scheme; it converges when h^2/6 |dF/dy| + h/2 |dF/dy'| < 1.
         "newton" uses Newton's method with an LU solve of
         I - h^2/6 dF/dy - h/2 dF/dy' (exact ``jac``, or finite differences
-        at m evaluations of F per iteration).  On a linear problem its first
-        iteration solves the step equation to rounding error, and a second
-        one confirms it, so a converged step costs 2 iterations.
+        at m evaluations of F), the matrix kept across iterations and steps
+        and rebuilt when convergence slows (``reuse_jacobian``).  On a linear
+        problem its first iteration solves the step equation to rounding
+        error, and a second one confirms it, so a converged step costs 2
+        iterations.  "global" solves the equations of all knots together by
+        Newton's method with a sparse LU (:mod:`splinestep.bvp`), starting
+        from one sweep per step; it gives the stepwise solution.
     iterations : int, optional
         Exactly this many iterations per step, with no convergence test
         (the report's "a few times").  By default iterate until converged.
@@ -378,16 +293,42 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         by Newton's method (finite differences otherwise); unused, with a
         warning, by the fixed-point iteration.
     dense_output : bool
-        Return the spline itself as ``sol``.
+        Return the spline itself as ``sol`` (for ``order`` 4 or 6 the quintic
+        :class:`HermiteSolution` through the knots, of the run's order).
+    order : {2, 4, 6}
+        2: the report's method.  4 and 6: each step of size h is a symmetric
+        composition of spline steps (Yoshida's triple jump, 3 sub-steps; his
+        7-stage solution A) [3]_; symmetric like the spline step, so the
+        long-time behaviour is kept.  Events are located on the cubic through
+        the knots (second order between knots).
+    rtol, atol : float, and float or array_like of shape (m,)
+        Adaptive knots (neither ``h`` nor ``knots`` given): the estimated
+        local errors of y and y' of each step, from the jump of the spline's
+        third derivative (:mod:`splinestep.controllers`), must be at most
+        atol + rtol |y| (scipy's scaled RMS norm).  ``res.t`` holds the knots
+        chosen; ``res.n_rejected`` and ``res.n_failed`` count the steps
+        rejected by the estimate and those whose equation could not be
+        solved (both retried smaller).
+    first_step, max_step : float
+        Adaptive knots: the first step (chosen from y0, yp0 by default) and
+        the largest step.
+    max_steps : int
+        Adaptive knots: step attempts allowed before the run stops (status -1).
+    reuse_jacobian : bool
+        Newton: keep the matrix and its LU factors while the iteration
+        converges fast (simplified Newton [4]_); False rebuilds it at every
+        iteration (full Newton).
 
     Returns
     -------
     OdeResult
         ``t`` (k,), ``y``, ``yp``, ``ypp`` (m, k), ``sol``, ``t_events``,
         ``y_events``, ``yp_events``, ``nfev``, ``njev``, ``niter``,
-        ``nstep``, ``local_error``, ``local_error_yp``, ``t_local_error``,
+        ``nstep``, ``local_error``, ``local_error_yp``, ``t_local_error``
+        (the uniform order-2 run's own estimate; NaN otherwise), ``order``,
         ``path``, ``status`` (0 reached the end, 1 a terminal event, -1
-        failed), ``message``, ``success``.  A failed run returns the steps
+        failed), ``message``, ``success``; adaptive runs also
+        ``n_rejected``, ``n_failed``.  A failed run returns the steps
         completed before the failure and says in ``message`` which step
         failed and why.
 
@@ -405,6 +346,12 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     .. [2] E. L. Wilson, I. Farhoomand, K. J. Bathe, "Nonlinear dynamic
        analysis of complex structures", Earthquake Eng. Struct. Dyn. 1 (1973)
        241-252 (the linear acceleration method).
+    .. [3] H. Yoshida, "Construction of higher order symplectic integrators",
+       Phys. Lett. A 150 (1990) 262-268; E. Hairer, C. Lubich, G. Wanner,
+       "Geometric Numerical Integration", 2nd ed., Springer (2006), Sec. II.4
+       and V.3.
+    .. [4] E. Hairer, G. Wanner, "Solving Ordinary Differential Equations II",
+       2nd ed., Springer (1996), Sec. IV.8.
 
     Examples
     --------
@@ -415,11 +362,32 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     """
     t0, tf = _base.check_span(t_span, backward=True)
     y0, yp0 = _base.check_state(y0, yp0)
-    h, n, knots = _base.check_grid(t0, tf, h, knots)
+    adaptive = h is None and knots is None
+    if not adaptive:
+        h, n, knots = _base.check_grid(t0, tf, h, knots)
     t_eval = _base.check_t_eval(t_eval, t0, tf)
     args = _base.check_args(args)
     if iteration not in ITERATIONS:
         raise ValueError(f"iteration must be one of {ITERATIONS}, got {iteration!r}")
+    if order not in COMPOSITIONS:
+        raise ValueError(f"order must be one of {tuple(COMPOSITIONS)}, got {order!r}")
+    if not isinstance(reuse_jacobian, (bool, np.bool_)):
+        raise ValueError(f"reuse_jacobian must be True or False, got {reuse_jacobian!r}")
+    if adaptive:
+        rtol, atol, first_step, max_step, max_steps = _base.check_tolerances(
+            rtol, atol, first_step, max_step, max_steps, y0.size)
+        if order != 2:
+            raise ValueError(f"order={order} needs h or knots: the adaptive knots control "
+                             "the error of the order-2 step")
+        if iteration == "global":
+            raise ValueError('iteration="global" needs h or knots')
+    if iteration == "global":
+        if order != 2 or events is not None or iterations is not None:
+            raise ValueError('iteration="global" takes neither order > 2, events nor '
+                             "iterations")
+        from .bvp import solve_global
+        return solve_global(fun, t0, tf, y0, yp0, h, n, knots, t_eval, args, tol, max_iter,
+                            jac, dense_output)
     if not (isinstance(tol, (int, float)) and np.isfinite(tol) and tol > 0):
         raise ValueError(f"tol must be positive and finite, got {tol!r}")
     if not (isinstance(max_iter, (int, np.integer)) and max_iter >= 1):
@@ -444,7 +412,14 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
 
     until_converged = iterations is None
     n_iter = max_iter if until_converged else iterations
-    settings = (mode, int(n_iter), until_converged, float(tol))
+    if adaptive:
+        return _solve_adaptive(fun, jac, args, path, t0, tf, y0, yp0, t_eval, events, mode,
+                               int(n_iter), until_converged, float(tol),
+                               bool(reuse_jacobian), rtol, atol, first_step, max_step,
+                               max_steps, dense_output)
+    weights, slots = composition(order)
+    settings = (mode, int(n_iter), until_converged, float(tol), bool(reuse_jacobian), weights,
+                slots)
     store_knots = bool(t_eval is None or dense_output or events)
     t_eval_all = _EMPTY if t_eval is None else t_eval
     with _compile.loop_callables(path, fun, jac, args) as (loop_fun, loop_jac, loop_args):
@@ -472,20 +447,54 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     else:
         result.t_events = result.y_events = result.yp_events = None
     if dense_output and knot_values[0].size >= 2:
+        result.sol = (SplineSolution if order == 2 else HermiteSolution)(*knot_values)
+    result.path = path
+    result.order = order
+    if order == 2:
+        check.report(result, estimate, fun, jac, args, h, t0, y0, yp0, Y_WEIGHT, YP_WEIGHT)
+    else:  # the estimate is that of one spline step, not of the composition
+        result.local_error = result.local_error_yp = result.t_local_error = np.nan
+    return result
+
+
+def _solve_adaptive(fun, jac, args, path, t0, tf, y0, yp0, t_eval, events, mode, n_iter,
+                    until_converged, tol, reuse, rtol, atol, first_step, max_step, max_steps,
+                    dense_output):
+    """solve() with knots chosen by the error controller (splinestep.adaptive)."""
+    with _compile.loop_callables(path, fun, jac, args) as (loop_fun, loop_jac, loop_args):
+        out = adaptive.run(loop_fun, loop_args, loop_jac, t0, tf, y0, yp0, rtol, atol,
+                           first_step, max_step, mode, n_iter, until_converged, tol, reuse,
+                           max_steps)
+    result, knot_values = adaptive.build_result(out, t0, t_eval, n_iter, max_steps)
+    T, Y, YP, YPP = knot_values
+    if events:
+        index, t_ev, y_ev, yp_ev, ypp_ev, _ = locate(events, T, Y, YP, YPP)
+        if index is not None:
+            result, knot_values = _cut_at(result, knot_values, t_eval, (t_ev, y_ev, yp_ev,
+                                                                        ypp_ev))
+        m = y0.size
+        result.t_events = [np.array(ev.times) for ev in events]
+        result.y_events = [np.array([s[0] for s in ev.states]).reshape(-1, m) for ev in events]
+        result.yp_events = [np.array([s[1] for s in ev.states]).reshape(-1, m) for ev in events]
+    else:
+        result.t_events = result.y_events = result.yp_events = None
+    if dense_output and knot_values[0].size >= 2:
         result.sol = SplineSolution(*knot_values)
     result.path = path
-    check.report(result, estimate, fun, jac, args, h, t0, y0, yp0, Y_WEIGHT, YP_WEIGHT)
+    result.order = 2
+    result.local_error = result.local_error_yp = result.t_local_error = np.nan
     return result
 
 
 _EMPTY = np.empty(0)
 # Types of the loop's arguments after (fun, args, jac): t0, h, n, knots, tf,
 # y0, yp0, ypp0, jerk0, dt0, t_eval, store_knots, mode, n_iter,
-# until_converged, tol.
+# until_converged, tol, reuse, weights, slots.
 _LOOP_TYPES = (_compile.FLOAT, _compile.FLOAT, _compile.INT, _compile.VECTOR, _compile.FLOAT,
                _compile.VECTOR, _compile.VECTOR, _compile.VECTOR, _compile.VECTOR,
                _compile.FLOAT, _compile.VECTOR, _compile.BOOL, _compile.INT, _compile.INT,
-               _compile.BOOL, _compile.FLOAT)
+               _compile.BOOL, _compile.FLOAT, _compile.BOOL, _compile.VECTOR,
+               _compile.INT_VECTOR)
 
 # Steps in the first piece of a run with a terminal event; each later piece
 # doubles, up to MAX_PIECE, so a run that stops early computes little past

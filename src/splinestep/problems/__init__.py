@@ -5,15 +5,20 @@
 - :func:`rigid_body` -- Euler's torque-free rigid body in the report's
   second-order form (Sec. 3.2);
 - :func:`harmonic` -- y'' = -omega^2 y, the model problem of the stability
-  and phase-error theory.
+  and phase-error theory;
+- :func:`eccentric` -- a Kepler orbit of given eccentricity from periapsis;
+- :func:`pleiades` -- seven stars with close encounters (PLEI);
+- :func:`bratu` -- the Bratu boundary value problem and its two solutions.
 """
 
 from ._problem import Problem
 from .kepler import (CANNONBALL_MU, ORBIT_TYPES, acceleration_derivatives, cannonball,
-                     kepler_exact, orbit_elements, path_curvature)
+                     eccentric, kepler_exact, orbit_elements, path_curvature)
+from .boundary import bratu
+from .pleiades import pleiades
 from .oscillator import harmonic
 from .euler_top import euler_top_exact, rigid_body
 
 __all__ = ["Problem", "cannonball", "CANNONBALL_MU", "ORBIT_TYPES", "kepler_exact",
            "orbit_elements", "acceleration_derivatives", "path_curvature",
-           "rigid_body", "euler_top_exact", "harmonic"]
+           "rigid_body", "euler_top_exact", "harmonic", "eccentric", "pleiades", "bratu"]

@@ -230,3 +230,25 @@ def path_curvature(v, a):
     """Curvature |v x a| / |v|^3 of a plane path with velocity v and
     acceleration a, each of shape (2, k)."""
     return np.abs(v[0] * a[1] - v[1] * a[0]) / np.hypot(v[0], v[1]) ** 3
+
+
+def eccentric(e=0.9, orbits=1):
+    """A Kepler orbit of eccentricity ``e`` (0 <= e < 1) with mu = 1,
+    launched at periapsis r = 1 with speed sqrt(1 + e), over ``orbits``
+    periods T = 2 pi / (1 - e)^(3/2).  The speed at periapsis is
+    sqrt((1 + e) / (1 - e)) times that at apoapsis, so a uniform step spends
+    most of its work where the orbit is slow.  ``h`` is T / 10,000.
+    Exact solution: :func:`kepler_exact`."""
+    e = float(e)
+    if not (np.isfinite(e) and 0 <= e < 1):
+        raise ValueError(f"e must lie in [0, 1), got {e}")
+    if not (isinstance(orbits, (int, np.integer)) and orbits >= 1):
+        raise ValueError(f"orbits must be an integer >= 1, got {orbits!r}")
+    period = 2 * np.pi / (1 - e) ** 1.5
+    r0, v0 = (1.0, 0.0), (0.0, float(np.sqrt(1 + e)))
+    return Problem(
+        name=f"Kepler orbit e={e:g}", fun=kepler_rhs, args=(1.0,), jac=kepler_jac,
+        y0=np.array(r0), yp0=np.array(v0), t_span=(0.0, orbits * period),
+        h=period / 10_000, exact=lambda t: kepler_exact(t, 1.0, r0, v0),
+        invariants={"energy": energy(1.0), "angular momentum": angular_momentum},
+        notes=f"mu = 1, periapsis r = 1, period {period:.6g}.")

@@ -1,0 +1,274 @@
+"""All knots at once: the spline step's relations solved together by
+Newton's method with a sparse LU (the report's Sec. 5, "the coefficients at
+all points in a single sweep ... through the use of Newton's method and
+LU-decomposition").
+
+The unknowns are y, y' and y'' at every knot t_0..t_n (3m(n + 1) numbers,
+stored knot after knot).  The equations are the step relations of each
+interval (:func:`splinestep.step.relations`, 2m each), the collocation
+z_i = F(t_i, y_i, y'_i) at each knot (m each) and 2m boundary conditions:
+y and y' at t_0 for an initial value problem (:func:`solve_global`), y at
+both ends for a boundary value problem (:func:`solve_bvp`).  Ordered knot
+by knot, the Jacobian is block-bidiagonal with bandwidth below 6m; it is
+factorised by SuperLU (``scipy.sparse.linalg.splu``) in its natural column
+order, which keeps the band.
+
+For an initial value problem the solution is the one the stepper computes
+one knot at a time (the same equations).  Solving them together costs more
+on one processor (each Newton iteration touches every knot); it is the
+structure that parallel-in-time methods distribute over processors.
+
+References
+----------
+.. [1] U. M. Ascher, R. M. M. Mattheij, R. D. Russell, "Numerical Solution
+   of Boundary Value Problems for Ordinary Differential Equations", SIAM
+   (1995), Ch. 5 (collocation) and Ch. 7 (banded linear algebra).
+.. [2] M. J. Gander, "50 years of time parallel time integration", in
+   "Multiple Shooting and Time Domain Decomposition Methods", Springer (2015).
+"""
+
+import numpy as np
+from scipy import sparse
+from scipy.sparse.linalg import splu
+
+from . import _base
+from ._base import FD_STEP
+from .result import OdeResult, SplineSolution
+from .step import YP_START, YP_WEIGHT, Y_START, Y_WEIGHT, relations
+
+
+def _evaluate(fun, jac, args, t, Y, YP):
+    """F, dF/dy and dF/dy' at every knot (arrays (n+1, m), (n+1, m, m) x 2),
+    and the number of evaluations of F and of jac."""
+    k, m = Y.shape
+    F = np.empty((k, m))
+    Fy = np.empty((k, m, m))
+    Fyp = np.empty((k, m, m))
+    nfev = njev = 0
+    for i in range(k):
+        F[i] = np.asarray(fun(t[i], Y[i], YP[i], *args), dtype=float).reshape(m)
+        nfev += 1
+        if jac is not None:
+            a, b = jac(t[i], Y[i], YP[i], *args)
+            Fy[i], Fyp[i] = a, b
+            njev += 1
+            continue
+        for j in range(m):
+            for target, part in ((Y, Fy), (YP, Fyp)):
+                point = target[i].copy()
+                step = FD_STEP * max(1.0, abs(point[j]))
+                point[j] += step
+                y_i, yp_i = (point, YP[i]) if target is Y else (Y[i], point)
+                part[i, :, j] = (np.asarray(fun(t[i], y_i, yp_i, *args), dtype=float)
+                                 .reshape(m) - F[i]) / step
+                nfev += 1
+    return F, Fy, Fyp, nfev, njev
+
+
+def _system(t, U, F, Fy, Fyp, boundary):
+    """Residual and sparse Jacobian of the whole trajectory.
+
+    ``U`` is (n+1, 3, m): y, y', y'' per knot.  ``boundary`` is a list of
+    (knot, component 0 for y or 1 for y', target values), m rows each;
+    those at knot 0 come before its equations, the others after the last
+    interval's (so the matrix stays banded)."""
+    k, _, m = U.shape
+    n = k - 1
+    dt = np.diff(t)
+    Y, YP, Z = U[:, 0], U[:, 1], U[:, 2]
+    r_y, r_yp = relations(dt[:, None], Y[:-1], YP[:-1], Z[:-1], Y[1:], YP[1:], Z[1:])
+    r_z = Z - F
+    first = [b for b in boundary if b[0] == 0]
+    rest = [b for b in boundary if b[0] != 0]
+    start = m * len(first)          # rows of the boundary conditions at knot 0
+    r, c = np.indices((m, m)).reshape(2, -1)
+    eye = np.broadcast_to(np.eye(m), (n, m, m))
+    rows, cols, vals = [], [], []
+
+    def put(row0, knot, part, blocks):
+        """Blocks (count, m, m) at rows row0 + ..., columns of (knot, part)."""
+        row0 = np.atleast_1d(row0)
+        col0 = 3 * m * np.atleast_1d(knot) + part * m
+        rows.append((row0[:, None] + r[None]).ravel())
+        cols.append((col0[:, None] + c[None]).ravel())
+        vals.append(np.asarray(blocks).reshape(-1, m * m).ravel())
+
+    for j, (knot, part, _) in enumerate(first):
+        put(j * m, knot, part, np.eye(m)[None])
+    # Collocation at every knot: z_i - F_i.
+    z_rows = np.r_[start, start + m + 3 * m * np.arange(n) + 2 * m]
+    knots = np.arange(k)
+    put(z_rows, knots, 2, np.broadcast_to(np.eye(m), (k, m, m)))
+    put(z_rows, knots, 0, -Fy)
+    put(z_rows, knots, 1, -Fyp)
+    # The step relations of each interval (splinestep.step.relations).
+    i = np.arange(n)
+    h = dt[:, None, None]
+    y_rows = start + m + 3 * m * i
+    put(y_rows, i + 1, 0, eye)
+    put(y_rows, i, 0, -eye)
+    put(y_rows, i, 1, -h * eye)
+    put(y_rows, i, 2, -h * h * Y_START * eye)
+    put(y_rows, i + 1, 2, -h * h * Y_WEIGHT * eye)
+    put(y_rows + m, i + 1, 1, eye)
+    put(y_rows + m, i, 1, -eye)
+    put(y_rows + m, i, 2, -h * YP_START * eye)
+    put(y_rows + m, i + 1, 2, -h * YP_WEIGHT * eye)
+    end = start + m + 3 * m * n
+    for j, (knot, part, _) in enumerate(rest):
+        put(end + j * m, knot, part, np.eye(m)[None])
+    size = 3 * m * k
+    residual = np.empty(size)
+    for j, (knot, part, target) in enumerate(first):
+        residual[j * m:(j + 1) * m] = U[knot, part] - target
+    residual[(z_rows[:, None] + np.arange(m)).ravel()] = r_z.ravel()
+    residual[(y_rows[:, None] + np.arange(m)).ravel()] = r_y.ravel()
+    residual[(y_rows[:, None] + m + np.arange(m)).ravel()] = r_yp.ravel()
+    for j, (knot, part, target) in enumerate(rest):
+        residual[end + j * m:end + (j + 1) * m] = U[knot, part] - target
+    matrix = sparse.csc_matrix((np.concatenate(vals), (np.concatenate(rows),
+                                                       np.concatenate(cols))),
+                               shape=(size, size))
+    return residual, matrix
+
+
+def newton(fun, jac, args, t, U, boundary, tol, max_iter):
+    """Newton's method on the whole trajectory from the guess ``U``
+    ((n+1, 3, m), overwritten).  Converged when the largest update is at
+    most ``tol`` times max(1, the largest |value|).
+
+    Returns (status, message, niter, nfev, njev): status 0 converged, -1
+    not (the message says why)."""
+    nfev = njev = 0
+    for it in range(1, max_iter + 1):
+        F, Fy, Fyp, fe, je = _evaluate(fun, jac, args, t, U[:, 0], U[:, 1])
+        nfev += fe
+        njev += je
+        if not (np.all(np.isfinite(F)) and np.all(np.isfinite(Fy))
+                and np.all(np.isfinite(Fyp))):
+            return -1, (f"Newton iteration {it}: the right-hand side or its Jacobian is not "
+                        "finite at the current iterate"), it - 1, nfev, njev
+        residual, matrix = _system(t, U, F, Fy, Fyp, boundary)
+        try:
+            delta = splu(matrix, permc_spec="NATURAL").solve(-residual)
+        except RuntimeError as error:  # SuperLU: "Factor is exactly singular"
+            return -1, f"Newton iteration {it}: the Jacobian is singular ({error})", it, \
+                nfev, njev
+        if not np.all(np.isfinite(delta)):
+            return -1, f"Newton iteration {it}: the update is not finite", it, nfev, njev
+        U += delta.reshape(U.shape)
+        if np.max(np.abs(delta)) <= tol * max(1.0, np.max(np.abs(U))):
+            return 0, "Newton's method converged on the whole trajectory.", it, nfev, njev
+    return -1, (f"Newton's method on the whole trajectory did not converge in {max_iter} "
+                "iterations; try a better y_guess or a finer mesh."), max_iter, nfev, njev
+
+
+def _result(t, U, status, message, niter, nfev, njev, t_eval=None, dense_output=True):
+    T, Y, YP, Z = t, U[:, 0], U[:, 1], U[:, 2]
+    sol = SplineSolution(T, Y, YP, Z)
+    if t_eval is not None:
+        t_out, y, yp, ypp = t_eval, sol(t_eval), sol(t_eval, 1), sol(t_eval, 2)
+    else:
+        t_out, y, yp, ypp = T.copy(), Y.T.copy(), YP.T.copy(), Z.T.copy()
+    return OdeResult(t=t_out, y=y, yp=yp, ypp=ypp, sol=sol if dense_output else None,
+                     nfev=nfev, njev=njev, niter=niter, nstep=T.size - 1, status=status,
+                     message=message, success=status == 0, t_events=None, y_events=None,
+                     yp_events=None, local_error=np.nan, local_error_yp=np.nan,
+                     t_local_error=np.nan, path="plain", order=2)
+
+
+def solve_global(fun, t0, tf, y0, yp0, h, n, knots, t_eval, args, tol, max_iter, jac,
+                 dense_output):
+    """``solve(..., iteration="global")``: the initial value problem on the
+    given knots, solved by :func:`newton` on the whole trajectory from the
+    guess of one fixed-point sweep per step (the stepper's cheapest pass)."""
+    from .spline import solve
+    if knots.size == 0:
+        knots = t0 + h * np.arange(n + 1)
+        knots[-1] = tf
+    guess = solve(fun, (t0, tf), y0, yp0, knots=knots, args=args, iterations=1)
+    if not guess.success:
+        return guess
+    U = np.stack([guess.y.T, guess.yp.T, guess.ypp.T], axis=1)
+    status, message, niter, nfev, njev = newton(
+        fun, jac, args, knots, U, [(0, 0, y0), (0, 1, yp0)], tol, max_iter)
+    result = _result(knots, U, status, message, niter, nfev + guess.nfev, njev, t_eval,
+                     dense_output)
+    result.nfev_guess = guess.nfev
+    return result
+
+
+def solve_bvp(fun, x, ya, yb, *, y_guess=None, tol=1e-10, max_iter=50, jac=None, args=()):
+    """Solve the boundary value problem y'' = F(x, y, y'), y(x[0]) = ya,
+    y(x[-1]) = yb, with the C2 cubic spline on the mesh ``x`` that satisfies
+    the equation at every mesh point.
+
+    Parameters
+    ----------
+    fun : callable
+        ``fun(x, y, yp, *args) -> y''`` as for :func:`splinestep.solve`.
+    x : array_like, shape (k,)
+        The mesh, strictly increasing, k >= 3.
+    ya, yb : float or array_like, shape (m,)
+        The boundary values.
+    y_guess : array_like, shape (m, k), optional
+        Initial guess of y on the mesh (zero by default), as in
+        ``scipy.integrate.solve_bvp``; a problem with several solutions
+        (Bratu's) converges to the one near the guess.  y' and y'' start from
+        its finite differences.
+    tol : float
+        Newton's method stops when its update is at most ``tol`` times
+        max(1, the largest |value|).
+    max_iter : int
+        Newton iterations allowed.
+    jac : callable, optional
+        ``jac(x, y, yp, *args) -> (dF/dy, dF/dyp)``; finite differences
+        otherwise (2m evaluations per mesh point and iteration).
+    args : tuple
+        Extra arguments of ``fun`` and ``jac``.
+
+    Returns
+    -------
+    OdeResult
+        ``t`` (the mesh), ``y``, ``yp``, ``ypp`` (m, k), ``sol`` (the spline),
+        ``niter``, ``nfev``, ``njev``, ``status`` (0 converged, -1 not),
+        ``message``, ``success``.  Order 2 in the mesh width.
+
+    References
+    ----------
+    .. [1] U. M. Ascher, R. M. M. Mattheij, R. D. Russell, "Numerical Solution
+       of Boundary Value Problems for Ordinary Differential Equations", SIAM
+       (1995), Sec. 5.4 (spline collocation).
+    """
+    x = _base._real_array(x, "x")
+    if x.ndim != 1 or x.size < 3 or not np.all(np.isfinite(x)) or not np.all(np.diff(x) > 0):
+        raise ValueError("x must be a finite, strictly increasing 1-D array of at least "
+                         "3 points")
+    ya, yb = _base.check_state(ya, yb)
+    m = ya.size
+    args = _base.check_args(args)
+    if not callable(fun):
+        raise ValueError("fun must be callable")
+    if jac is not None and not callable(jac):
+        raise ValueError("jac must be callable or None")
+    if not (isinstance(tol, (int, float)) and np.isfinite(tol) and tol > 0):
+        raise ValueError(f"tol must be positive and finite, got {tol!r}")
+    if not (isinstance(max_iter, (int, np.integer)) and max_iter >= 1):
+        raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
+    if y_guess is None:
+        y_guess = np.zeros((m, x.size))
+    y_guess = _base._real_array(y_guess, "y_guess")
+    if y_guess.shape != (m, x.size) or not np.all(np.isfinite(y_guess)):
+        raise ValueError(f"y_guess must be finite, of shape ({m}, {x.size}), "
+                         f"got shape {y_guess.shape}")
+    _base.check_fun(fun, x[0], ya, np.zeros(m), args)
+    if jac is not None:
+        _base.check_jac(jac, x[0], ya, np.zeros(m), args)
+    Y = y_guess.T.copy()
+    YP = np.gradient(Y, x, axis=0)
+    Z = np.gradient(YP, x, axis=0)
+    U = np.stack([Y, YP, Z], axis=1)
+    with np.errstate(all="ignore"):
+        status, message, niter, nfev, njev = newton(
+            fun, jac, args, x, U, [(0, 0, ya), (x.size - 1, 0, yb)], tol, max_iter)
+    return _result(x, U, status, message, niter, nfev, njev)

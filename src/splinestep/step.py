@@ -1,0 +1,356 @@
+"""The one spline step, shared by every driver.
+
+A step of size dt from the knot t, where the spline has value y, slope y'
+and second derivative y'', to the knot t + dt extends the C2 cubic by one
+interval and satisfies the ODE at the new knot.  With z = y''(t + dt) the
+unknown (report eqs. 6-9),
+
+    y_new  = y + dt y' + dt^2 (y''/3 + z/6),
+    y'_new = y' + dt (y'' + z)/2,
+    z      = F(t + dt, y_new, y'_new),
+
+Newmark's method with beta = 1/6, gamma = 1/2.  :func:`spline_step` solves
+the step equation by the report's fixed-point sweep or by Newton's method;
+:func:`composed_step` chains it with the weights of a symmetric composition;
+:func:`relations` is the step written as residuals, for the drivers that
+solve all knots at once (:mod:`splinestep.bvp`).  The uniform
+(:mod:`splinestep.spline`), adaptive (:mod:`splinestep.adaptive`) and
+reversible drivers call these and nothing else of the method.
+
+Newton's method is the simplified Newton of implicit Runge-Kutta codes
+(Hairer and Wanner's RADAU5): the matrix I - dt^2/6 dF/dy - dt/2 dF/dy' and
+its LU factors are kept across iterations and steps, and rebuilt only when
+the iteration contracts slowly (by less than :data:`SLOW_RATE` per
+iteration), when it fails, or when the step changed by more than
+:data:`STEP_CHANGE` since they were built.
+
+References
+----------
+.. [1] E. Hairer, G. Wanner, "Solving Ordinary Differential Equations II",
+   2nd ed., Springer (1996), Sec. IV.8 (simplified Newton iterations).
+"""
+
+import numpy as np
+from numba import njit
+
+from ._base import (BAD_SHAPE, DIVERGED, FD_STEP, NON_FINITE, NOT_CONVERGED, OK, SINGULAR,
+                    as_vector, wrong_length)
+
+# The coefficients of the unknown z in the step, as multiples of dt^2 and dt,
+# and those of y'' at the start.
+Y_WEIGHT = 1.0 / 6.0   # d y_new / d z = dt^2 / 6
+YP_WEIGHT = 0.5        # d y'_new / d z = dt / 2
+Y_START = 1.0 / 3.0    # y_new holds dt^2 y'' / 3
+YP_START = 0.5         # y'_new holds dt y'' / 2
+
+# Leading local errors of one step from exact values when y'''' is
+# constant: the step misses h^4 y''''/24 in y and h^3 y''''/12 in y'
+# (Taylor expansion of the step, derived in splinestep.theory).
+ERR_Y = 1.0 / 24.0
+ERR_YP = 1.0 / 12.0
+
+FIXED_POINT, NEWTON = 0, 1
+# Simplified Newton: rebuild the matrix when an iteration reduces the update
+# by less than this factor, or when the step differs by more than this
+# fraction from the one the matrix was built for.
+SLOW_RATE = 0.5
+STEP_CHANGE = 0.2
+
+
+@njit(cache=True, error_model="numpy")
+def lu_factor(a, piv):
+    """LU factorisation with partial pivoting of ``a`` in place (Doolittle:
+    unit lower triangle below the diagonal), row swaps in ``piv``.  Written
+    out because numba's LAPACK binding multiplies the compile time of the
+    step loops by four.  A zero pivot leaves a zero on the diagonal, which
+    makes :func:`lu_solve` return non-finite values."""
+    m = a.shape[0]
+    for col in range(m):
+        p = col
+        for row in range(col + 1, m):
+            if abs(a[row, col]) > abs(a[p, col]):
+                p = row
+        piv[col] = p
+        if p != col:
+            for k in range(m):
+                a[col, k], a[p, k] = a[p, k], a[col, k]
+        for row in range(col + 1, m):
+            a[row, col] = a[row, col] / a[col, col]
+            factor = a[row, col]
+            for k in range(col + 1, m):
+                a[row, k] -= factor * a[col, k]
+
+
+@njit(cache=True, error_model="numpy")
+def lu_solve(lu, piv, b):
+    """Solve with the factors of :func:`lu_factor`; returns a new vector."""
+    m = b.shape[0]
+    x = b.copy()
+    for col in range(m):
+        p = piv[col]
+        if p != col:
+            x[col], x[p] = x[p], x[col]
+    for row in range(m):
+        for k in range(row):
+            x[row] -= lu[row, k] * x[k]
+    for row in range(m - 1, -1, -1):
+        for k in range(row + 1, m):
+            x[row] -= lu[row, k] * x[k]
+        x[row] = x[row] / lu[row, row]
+    return x
+
+
+@njit(cache=True, error_model="numpy")
+def solve_linear(a, b):
+    """Solve a x = b (``a`` is overwritten)."""
+    piv = np.empty(b.shape[0], dtype=np.int64)
+    lu_factor(a, piv)
+    return lu_solve(a, piv, b)
+
+
+@njit(cache=True)
+def newton_state(m, slots):
+    """Storage for the kept Newton matrices, one per distinct sub-step of a
+    composition: LU factors (slots, m, m), pivots (slots, m) and, per slot,
+    [built?, the step it was built for]."""
+    return (np.zeros((slots, m, m)), np.zeros((slots, m), dtype=np.int64),
+            np.zeros((slots, 2)))
+
+
+@njit(cache=True, error_model="numpy")
+def _build_matrix(fun, args, jac, t_new, dt, base_y, base_yp, z, g, y_new, yp_new, lu, piv,
+                  info):
+    """I - dF/dz at the current z, factorised into ``lu``; returns
+    (nfev, njev) spent (finite differences: m evaluations)."""
+    m = z.shape[0]
+    wy = Y_WEIGHT * dt * dt
+    wyp = YP_WEIGHT * dt
+    nfev = 0
+    njev = 0
+    if jac is None:
+        for k in range(m):
+            step = FD_STEP * max(1.0, abs(z[k]))
+            saved = z[k]
+            z[k] = saved + step
+            for j in range(m):
+                y_new[j] = base_y[j] + wy * z[j]
+                yp_new[j] = base_yp[j] + wyp * z[j]
+            gk = as_vector(fun(t_new, y_new, yp_new, *args))
+            z[k] = saved
+            for j in range(m):
+                lu[j, k] = -(gk[j] - g[j]) / step
+        nfev += m
+    else:
+        for j in range(m):
+            y_new[j] = base_y[j] + wy * z[j]
+            yp_new[j] = base_yp[j] + wyp * z[j]
+        fy, fyp = jac(t_new, y_new, yp_new, *args)
+        njev += 1
+        fy = np.asarray(fy)
+        fyp = np.asarray(fyp)
+        for j in range(m):
+            for k in range(m):
+                lu[j, k] = -(wy * fy[j, k] + wyp * fyp[j, k])
+    for k in range(m):
+        lu[k, k] += 1.0
+    lu_factor(lu, piv)
+    info[0] = 1.0
+    info[1] = dt
+    return nfev, njev
+
+
+@njit(cache=True, error_model="numpy")
+def spline_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, mode, n_iter,
+                until_converged, tol, reuse, lu, piv, info):
+    """One step from (y, y', y'') to t_new = t + dt.
+
+    On return ``z`` holds y'' at t_new and ``y_new``, ``yp_new`` the value
+    and slope there (consistent with ``z``).  ``mode`` is FIXED_POINT or
+    NEWTON; ``n_iter`` iterations at most (exactly, when not
+    ``until_converged``); converged when the change of the increments
+    dt^2/6 |dz| and dt/2 |dz| is at most ``tol`` times the size of the
+    state (max norm).  ``lu``, ``piv``, ``info`` hold the kept Newton
+    matrix (see :func:`newton_state`), rebuilt at every iteration when not
+    ``reuse``.  A step that fails with a kept matrix is tried again from
+    the start with Newton's matrix rebuilt at every iteration, so reusing
+    the matrix never loses a step that full Newton would solve.
+
+    Returns (status, nfev, njev, niter).
+    """
+    status, nfev, njev, niter, fresh = _iterate(fun, args, jac, t_new, dt, y, yp, ypp, z,
+                                                y_new, yp_new, mode, n_iter, until_converged,
+                                                tol, reuse, lu, piv, info)
+    if status != OK and mode == NEWTON and reuse and not fresh:
+        info[0] = 0.0
+        status, fe, je, it, _ = _iterate(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new,
+                                         yp_new, mode, n_iter, until_converged, tol, False, lu,
+                                         piv, info)
+        nfev += fe
+        njev += je
+        niter += it
+    return status, nfev, njev, niter
+
+
+@njit(cache=True, error_model="numpy")
+def _iterate(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, mode, n_iter,
+             until_converged, tol, reuse, lu, piv, info):
+    """The iteration of :func:`spline_step`; also returns whether the
+    Newton matrix was built during it."""
+    m = y.shape[0]
+    wy = Y_WEIGHT * dt * dt
+    wyp = YP_WEIGHT * dt
+    w_max = max(wy, abs(wyp))
+    base_y = np.empty(m)
+    base_yp = np.empty(m)
+    for k in range(m):
+        base_y[k] = y[k] + dt * yp[k] + (Y_START * dt * dt) * ypp[k]
+        base_yp[k] = yp[k] + (YP_START * dt) * ypp[k]
+        z[k] = ypp[k]  # the report's initial guess d_i = 0
+    nfev = 0
+    njev = 0
+    niter = 0
+    status = NOT_CONVERGED if until_converged else OK
+    if mode == NEWTON and info[0] != 0.0 and abs(dt - info[1]) > STEP_CHANGE * abs(info[1]):
+        info[0] = 0.0
+    fresh = False        # the matrix was built during this step
+    last_change = np.inf
+    for _ in range(n_iter):
+        size = 0.0
+        for k in range(m):
+            y_new[k] = base_y[k] + wy * z[k]
+            yp_new[k] = base_yp[k] + wyp * z[k]
+            size = max(size, abs(y_new[k]), abs(yp_new[k]))
+        if not size < np.inf:
+            # A diverging sweep overflows; an infinite size would pass the
+            # relative convergence test below.
+            status = DIVERGED
+            break
+        g = as_vector(fun(t_new, y_new, yp_new, *args))
+        nfev += 1
+        if wrong_length(g, m):
+            status = BAD_SHAPE
+            break
+        for k in range(m):
+            if not abs(g[k]) < np.inf:
+                status = NON_FINITE
+        if status == NON_FINITE:
+            break
+        change = 0.0
+        if mode == FIXED_POINT:
+            # Sweep: eq. 9 gives the new c_{i+1} = z / 2 (eq. 8 then d_i).
+            for k in range(m):
+                change = max(change, abs(g[k] - z[k]))
+                z[k] = g[k]
+        else:
+            # Newton on R(z) = z - F(t, y_new(z), y'_new(z)) = 0.
+            if info[0] == 0.0:
+                gcopy = np.empty(m)
+                for k in range(m):
+                    gcopy[k] = g[k]
+                fe, je = _build_matrix(fun, args, jac, t_new, dt, base_y, base_yp, z, gcopy,
+                                       y_new, yp_new, lu, piv, info)
+                nfev += fe
+                njev += je
+                fresh = True
+            residual = np.empty(m)
+            for k in range(m):
+                residual[k] = g[k] - z[k]
+            dz = lu_solve(lu, piv, residual)
+            bad = False
+            for k in range(m):
+                if not abs(dz[k]) < np.inf:
+                    bad = True
+            if bad:
+                if fresh:
+                    status = SINGULAR
+                    break
+                info[0] = 0.0  # a kept matrix failed: rebuild it at the next iteration
+                niter += 1
+                continue
+            for k in range(m):
+                change = max(change, abs(dz[k]))
+                z[k] += dz[k]
+            if not reuse or (change > SLOW_RATE * last_change and not fresh):
+                info[0] = 0.0
+            last_change = change
+        niter += 1
+        if until_converged and w_max * change <= tol * size:
+            status = OK
+            break
+    if status == OK:
+        for k in range(m):
+            y_new[k] = base_y[k] + wy * z[k]
+            yp_new[k] = base_yp[k] + wyp * z[k]
+            if not (abs(y_new[k]) < np.inf and abs(yp_new[k]) < np.inf):
+                status = NON_FINITE
+    if status != OK and mode == NEWTON:
+        info[0] = 0.0
+    return status, nfev, njev, niter, fresh
+
+
+@njit(cache=True, error_model="numpy")
+def composed_step(fun, args, jac, t, dt, weights, slots, y, yp, ypp, z, y_new, yp_new, mode,
+                  n_iter, until_converged, tol, reuse, lu, piv, info):
+    """The step from t to t + dt as spline steps of sizes weights[j] dt in
+    turn (weights summing to 1; a single weight 1 is one spline step).
+    Sub-step j keeps its Newton matrix in slot ``slots[j]`` of ``lu``,
+    ``piv``, ``info``.  Returns what :func:`spline_step` returns, summed;
+    on success ``y_new``, ``yp_new``, ``z`` hold the state at t + dt."""
+    s = weights.shape[0]
+    if s == 1:
+        return spline_step(fun, args, jac, t + dt, dt, y, yp, ypp, z, y_new, yp_new, mode,
+                           n_iter, until_converged, tol, reuse, lu[0], piv[0], info[0])
+    sub_y = y.copy()
+    sub_yp = yp.copy()
+    sub_ypp = ypp.copy()
+    nfev = 0
+    njev = 0
+    niter = 0
+    status = OK
+    t_sub = t
+    for j in range(s):
+        d = weights[j] * dt
+        t_next = t + dt if j == s - 1 else t_sub + d
+        slot = slots[j]
+        status, fe, je, it = spline_step(fun, args, jac, t_next, t_next - t_sub, sub_y, sub_yp,
+                                         sub_ypp, z, y_new, yp_new, mode, n_iter,
+                                         until_converged, tol, reuse, lu[slot], piv[slot],
+                                         info[slot])
+        nfev += fe
+        njev += je
+        niter += it
+        if status != OK:
+            break
+        for k in range(y.shape[0]):
+            sub_y[k] = y_new[k]
+            sub_yp[k] = yp_new[k]
+            sub_ypp[k] = z[k]
+        t_sub = t_next
+    return status, nfev, njev, niter
+
+
+@njit(cache=True)
+def quintic(s, dt, p0, v0, a0, p1, v1, a1):
+    """Value, first and second derivative at t + s of the quintic with
+    value, slope and second derivative (p0, v0, a0) at t and (p1, v1, a1)
+    at t + dt (Hermite interpolation, error O(dt^6))."""
+    # What the quadratic Taylor part leaves at t + dt, in value, slope and
+    # second derivative; the s^3, s^4, s^5 coefficients solve a 3 x 3 system.
+    rp = p1 - p0 - dt * (v0 + 0.5 * dt * a0)
+    rv = (v1 - v0 - dt * a0) * dt
+    ra = (a1 - a0) * dt * dt
+    c3 = (10.0 * rp - 4.0 * rv + 0.5 * ra) / dt ** 3
+    c4 = (-15.0 * rp + 7.0 * rv - ra) / dt ** 4
+    c5 = (6.0 * rp - 3.0 * rv + 0.5 * ra) / dt ** 5
+    value = p0 + s * (v0 + s * (0.5 * a0 + s * (c3 + s * (c4 + s * c5))))
+    slope = v0 + s * (a0 + s * (3.0 * c3 + s * (4.0 * c4 + s * 5.0 * c5)))
+    curvature = a0 + s * (6.0 * c3 + s * (12.0 * c4 + s * 20.0 * c5))
+    return value, slope, curvature
+
+
+def relations(dt, y, yp, ypp, y1, yp1, z):
+    """The step as residuals: zero when (y1, yp1, z) at t + dt is the spline
+    step from (y, yp, ypp) at t (any broadcastable arrays; the collocation
+    z = F(t + dt, y1, yp1) is the caller's)."""
+    return (y1 - (y + dt * yp + dt * dt * (Y_START * ypp + Y_WEIGHT * z)),
+            yp1 - (yp + dt * (YP_START * ypp + YP_WEIGHT * z)))

@@ -1,0 +1,247 @@
+"""The report's suggested improvements, each against an exact solution or an
+independent computation: composition to order 4 and 6, adaptive knots, the
+step that fails as a rejected step, the kept Newton matrix, the global
+Newton-LU sweep, boundary value problems and time-reversible steps."""
+
+import warnings
+
+import numpy as np
+import pytest
+from conftest import fitted_order
+from scipy.integrate import solve_ivp
+
+import splinestep
+from splinestep import problems
+from splinestep.problems.kepler import kepler_rhs
+
+HS4 = np.array([0.08, 0.04, 0.02, 0.01])
+
+
+def kepler_control(t, y, yp, mu):
+    """-d/dt ln r^(3/2): the Kepler step density of Hairer and Soderlind."""
+    return -1.5 * np.dot(y, yp) / np.dot(y, y)
+
+
+@pytest.mark.parametrize("name", ["cannonball 0.4", "cannonball 0.5", "cannonball 0.6",
+                                  "cannonball 1.0", "rigid body"])
+def test_composition_is_fourth_order_between_knots(name):
+    """Errors at times between the knots (the quintic dense output) against
+    the exact solutions fall with slope 4."""
+    problem = (problems.rigid_body("consistent") if name == "rigid body"
+               else problems.cannonball(float(name.split()[1])))
+    t_eval = np.linspace(problem.t_span[0], problem.t_span[1], 137)
+    exact, _ = problem.reference(t_eval)
+    errors = [np.max(np.abs(problem.solve(h=h, order=4, t_eval=t_eval).y - exact)) for h in HS4]
+    assert 3.8 <= fitted_order(HS4, errors) <= 4.2
+
+
+def test_order_four_and_six_on_the_ellipse():
+    """At the report's step: order 4 reaches 2e-7 (order 2: 4.1e-3), order 6
+    1.2e-12; order 6's slope is 6."""
+    problem = problems.cannonball(0.6)
+    t = np.linspace(0.0, 50.0, 301)
+    exact, _ = problem.reference(t)
+    err = {k: np.max(np.abs(problem.solve(order=k, t_eval=t).y - exact)) for k in (2, 4, 6)}
+    assert 3e-3 < err[2] < 5e-3 and err[4] < 3e-7 and err[6] < 1e-11
+    hs = np.array([0.08, 0.04, 0.02])
+    errors = [np.max(np.abs(problem.solve(h=h, order=6, t_eval=t).y - exact)) for h in hs]
+    assert 5.6 <= fitted_order(hs, errors) <= 6.4
+
+
+def test_composition_keeps_the_energy_bounded():
+    """Symmetric composition of a symmetric method: the energy error of the
+    order-4 run does not grow from the 10th to the 2,000th orbit."""
+    problem = problems.cannonball(0.6)
+    period = problems.orbit_elements(0.6)["period"]
+    windows = [np.linspace(k * period, (k + 1) * period, 64) for k in (9, 1999)]
+    res = splinestep.solve(problem.fun, (0.0, windows[1][-1]), problem.y0, problem.yp0, 0.01,
+                           args=problem.args, order=4, t_eval=np.concatenate(windows))
+    energy = problem.invariants["energy"](res.y, res.yp) - (0.5 - 0.6)
+    early, late = np.max(np.abs(energy[:64])), np.max(np.abs(energy[64:]))
+    assert late < 1.5 * early
+
+
+def test_adaptive_knots_reach_the_error_with_ten_times_fewer_evaluations():
+    """Kepler e = 0.9, one period: for the final position error of the
+    uniform step (one sweep per step, the cheapest uniform run) the adaptive
+    knots need at least 10 times fewer evaluations."""
+    problem = problems.eccentric(0.9)
+    period = problem.t_span[1]
+    exact, _ = problem.reference(np.array([period]))
+
+    def error(res):
+        return np.max(np.abs(res.y[:, -1] - exact[:, 0]))
+    uniform = problem.solve(h=period / 512_000, iterations=1)
+    adaptive = [problem.solve(h="adaptive", rtol=rtol, atol=rtol * 1e-3, iterations=1)
+                for rtol in (1e-10, 1e-11)]
+    errors = np.array([error(res) for res in adaptive])
+    nfev = np.array([res.nfev for res in adaptive])
+    # Work of the adaptive run at the uniform run's error (log-log interpolation).
+    needed = np.exp(np.interp(np.log(error(uniform)), np.log(errors[::-1]),
+                              np.log(nfev[::-1])))
+    assert errors.min() < error(uniform) < errors.max()
+    assert uniform.nfev / needed >= 10
+
+
+def test_error_estimate_tracks_the_true_local_error():
+    """Along the eccentric orbit: the jump estimate of each adaptive step
+    against the error of the same step started from the exact solution."""
+    problem = problems.eccentric(0.9)
+    res = problem.solve(h="adaptive", rtol=1e-8, atol=1e-11)
+    t, y, yp, ypp = res.t, res.y, res.yp, res.ypp
+    jerk = np.diff(ypp, axis=1) / np.diff(t)
+    ratios = []
+    for i in range(1, t.size - 1, 37):
+        y4 = np.abs(jerk[:, i] - jerk[:, i - 1]) / (0.5 * (t[i + 1] - t[i - 1]))
+        estimate = np.max(np.abs(t[i + 1] - t[i]) ** 4 * y4 / 24)
+        start, _ = problem.reference(t[i:i + 2])
+        _, start_yp = problem.reference(t[i:i + 2])
+        one = splinestep.solve(problem.fun, (t[i], t[i + 1]), start[:, 0], start_yp[:, 0],
+                               knots=t[i:i + 2], args=problem.args, tol=1e-15)
+        ratios.append(estimate / np.max(np.abs(one.y[:, -1] - start[:, 1])))
+    assert 0.5 < np.median(ratios) < 2.0
+
+
+def test_a_step_without_solution_is_rejected_and_retried():
+    """y'' = -y from a first step of 3 (omega h = 3 > sqrt 6: the sweep
+    diverges): the step fails, is retried smaller, and the run succeeds."""
+    res = splinestep.solve(lambda t, y, yp: -y, (0.0, 10.0), 1.0, 0.0, rtol=1e-8,
+                           atol=1e-10, first_step=3.0)
+    assert res.success and res.n_failed >= 1
+    assert abs(res.y[0, -1] - np.cos(10.0)) < 1e-5
+
+
+def test_pleiades_adaptive_succeeds_where_uniform_steps_fail():
+    problem = problems.pleiades()
+    exact, _ = problem.reference(np.array([3.0]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        uniform = problem.solve(h=5e-3)
+    assert uniform.status == -1 and "did not converge" in uniform.message
+    adaptive = problem.solve(h="adaptive", rtol=1e-8, atol=1e-8)
+    assert adaptive.success
+    assert np.max(np.abs(adaptive.y[:, -1] - exact[:, 0])) < 5e-3
+
+
+def test_kept_newton_matrix_saves_evaluations():
+    """Pleiades at h = 1e-3 with finite differences: full Newton spends more
+    than 30 evaluations per step, the kept matrix fewer than 4, for the same
+    solution."""
+    problem = problems.pleiades()
+    full = problem.solve(iteration="newton", reuse_jacobian=False)
+    kept = problem.solve(iteration="newton")
+    assert full.nfev / full.nstep > 30 and kept.nfev / kept.nstep < 4
+    assert np.max(np.abs(full.y - kept.y)) < 1e-8
+
+
+@pytest.mark.parametrize("name", ["cannonball 0.6", "harmonic"])
+def test_global_newton_gives_the_stepwise_solution(name):
+    problem = (problems.cannonball(0.6) if name.startswith("cannon")
+               else problems.harmonic(3.0, (0.0, 20.0), 0.05))
+    stepwise = problem.solve(iteration="newton", tol=1e-14)
+    whole = problem.solve(iteration="global", tol=1e-13)
+    assert whole.success and whole.niter <= 6
+    assert np.max(np.abs(whole.y - stepwise.y)) < 1e-10 * max(1.0, np.max(np.abs(stepwise.y)))
+
+
+def test_global_newton_that_does_not_converge_is_a_failure():
+    problem = problems.cannonball(0.6)
+    res = problem.solve(iteration="global", max_iter=1)
+    assert res.status == -1 and "did not converge in 1 iterations" in res.message
+
+
+@pytest.mark.parametrize("branch, amplitude", [("lower", 0.1), ("upper", 4.0)])
+def test_bratu_both_branches_at_order_two(branch, amplitude):
+    fun, jac, args, exact = problems.bratu(1.0, branch)
+    meshes = [np.linspace(0.0, 1.0, n) for n in (21, 41, 81, 161)]
+    errors = []
+    for x in meshes:
+        res = splinestep.solve_bvp(fun, x, 0.0, 0.0, y_guess=amplitude * np.sin(np.pi * x)[None],
+                                   args=args)
+        assert res.success, res.message
+        errors.append(np.max(np.abs(res.y - exact(x))))
+    hs = np.array([x[1] for x in meshes])
+    assert 1.95 <= fitted_order(hs, errors) <= 2.05
+
+
+def test_linear_bvp_with_jacobian_and_a_vector():
+    """y'' = y on [0, 1] with y(0) = 0, y(1) = 1 (exact sinh x / sinh 1),
+    twice as a system of two identical components; exact jac given."""
+    x = np.linspace(0.0, 1.0, 101)
+    jac = lambda t, y, yp: (np.eye(2), np.zeros((2, 2)))   # noqa: E731
+    res = splinestep.solve_bvp(lambda t, y, yp: y, x, [0.0, 0.0], [1.0, 1.0], jac=jac)
+    exact = np.sinh(x) / np.sinh(1.0)
+    error = np.max(np.abs(res.y - exact))
+    # The spline's error: h^2/12 y'''' scaled by the Green's function, below 1e-5 here.
+    assert res.success and res.niter <= 2 and 1e-7 < error < 1e-5
+    assert res.sol(0.5)[0] == pytest.approx(np.sinh(0.5) / np.sinh(1.0), abs=1e-5)
+
+
+def test_bvp_without_solution_fails_with_a_message():
+    """Bratu for lambda = 4 > lambda_c = 3.514 has no solution."""
+    fun, _, _, _ = problems.bratu(1.0, "lower")
+    x = np.linspace(0.0, 1.0, 41)
+    res = splinestep.solve_bvp(fun, x, 0.0, 0.0, args=(4.0,))
+    assert res.status == -1 and not res.success and "Newton" in res.message
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(x=[0.0, 1.0]), "x"), (dict(x=[0.0, 0.5, 0.5, 1.0]), "x"),
+    (dict(y_guess=np.zeros((2, 5))), "y_guess"), (dict(tol=0.0), "tol"),
+    (dict(max_iter=0), "max_iter"), (dict(ya=[0.0, 1.0]), "y0 and yp0")])
+def test_solve_bvp_rejects_bad_input(kwargs, name):
+    call = dict(x=np.linspace(0, 1, 5), ya=0.0, yb=0.0)
+    call.update(kwargs)
+    with pytest.raises(ValueError, match=name):
+        splinestep.solve_bvp(lambda t, y, yp: -y, call.pop("x"), call.pop("ya"),
+                             call.pop("yb"), **call)
+
+
+def test_bvp_agrees_with_scipy_solve_bvp():
+    """The same Bratu solution as scipy's collocation (tol 1e-8), to the
+    spline's own error."""
+    from scipy.integrate import solve_bvp as scipy_bvp
+    fun, _, args, exact = problems.bratu(1.0, "lower")
+    x = np.linspace(0.0, 1.0, 81)
+    ours = splinestep.solve_bvp(fun, x, 0.0, 0.0, args=args)
+    theirs = scipy_bvp(lambda s, u: np.vstack([u[1], -np.exp(u[0])]),
+                       lambda a, b: np.array([a[0], b[0]]), x, np.zeros((2, x.size)), tol=1e-8)
+    assert theirs.success
+    assert np.max(np.abs(ours.y[0] - theirs.sol(x)[0])) < 2 * np.max(np.abs(ours.y - exact(x)))
+
+
+def test_reversible_steps_keep_the_energy_bounded_and_retrace():
+    """Kepler e = 0.9 over 300 orbits, energy error at each apoapsis: that of
+    the reversible steps stays at its first-orbit value, that of the
+    error-controlled knots wanders off (27-fold by orbit 300 here); run
+    backwards from a knot, the reversible run retraces its knots."""
+    orbits = 300
+    problem = problems.eccentric(0.9, orbits=orbits)
+    period = problem.t_span[1] / orbits
+    apoapsis = (np.arange(orbits) + 0.5) * period
+    energy = problem.invariants["energy"]
+    e0 = energy(problem.y0[:, None], problem.yp0[:, None])[0]
+
+    def at_apoapsis(res):
+        return np.abs(energy(res.sol(apoapsis), res.sol(apoapsis, 1)) - e0)
+    rev = splinestep.solve_reversible(problem.fun, problem.t_span, problem.y0, problem.yp0,
+                                      4e-3, kepler_control, args=problem.args)
+    adaptive = problem.solve(h="adaptive", rtol=1e-6, atol=1e-9, dense_output=True)
+    assert rev.success and adaptive.success
+    # Comparable work: the reversible run takes no more evaluations than 3x.
+    assert rev.nfev < 3 * adaptive.nfev
+    drift = at_apoapsis(rev)
+    assert np.max(drift) < 1.01 * drift[0]
+    wander = at_apoapsis(adaptive)
+    assert np.max(wander[-30:]) > 5 * wander[0]
+    # Backwards from a knot in the middle, with the forward run's rho there:
+    # the same knots, in reverse.
+    k = int(np.searchsorted(rev.t, 10.3 * period))   # 10 orbits back, to rounding
+    rho_k = rev.rho[k - 1] + 0.5 * 4e-3 * kepler_control(rev.t[k], rev.y[:, k], rev.yp[:, k], 1.0)
+    back = splinestep.solve_reversible(problem.fun, (rev.t[k], 0.0), rev.y[:, k], rev.yp[:, k],
+                                       4e-3, kepler_control, rho0=rho_k, args=problem.args)
+    assert back.success and back.nstep in (k, k + 1)
+    # Rounding and the step's iteration tolerance (1e-12) over 2e4 steps of
+    # a span of 2e3: agreement to about 1e-12 relative per step.
+    assert np.max(np.abs(back.t[:k] - rev.t[k:0:-1])) < 1e-7
+    assert np.max(np.abs(back.y[:, -1] - problem.y0)) < 1e-6
