@@ -227,6 +227,33 @@ def process_rows(quick):
     return rows
 
 
+def whole_trajectory_rows(repeats=5):
+    """Seconds of the global Newton-LU sweep against the stepwise solve of
+    the same knots, and of solve_bvp against scipy's on the Bratu problem,
+    each pair timed side by side in this run."""
+    from scipy.integrate import solve_bvp as scipy_bvp
+    rows = []
+    problem = problems.cannonball(0.6)
+    problem.solve(iteration="global")   # compile and warm up
+    stepwise, _ = median_time(lambda: problem.solve(iteration="newton"), repeats)
+    whole, _ = median_time(lambda: problem.solve(iteration="global"), repeats)
+    rows.append(["ellipse, 5000 steps: stepwise Newton", f"{stepwise * 1e3:.1f} ms", "1.00"])
+    rows.append(["ellipse, 5000 steps: global Newton-LU sweep", f"{whole * 1e3:.1f} ms",
+                 f"{whole / stepwise:.0f}"])
+    fun, jac, args, _ = problems.bratu(1.0, "lower")
+    for n in (41, 321):
+        x = np.linspace(0.0, 1.0, n)
+        ours, _ = median_time(lambda: splinestep.solve_bvp(fun, x, 0.0, 0.0, args=args), repeats)
+        theirs, _ = median_time(lambda: scipy_bvp(
+            lambda s, u: np.vstack([u[1], -np.exp(u[0])]), lambda a, b: np.array([a[0], b[0]]),
+            x, np.zeros((2, n)), tol=1e-8), repeats)
+        rows.append([f"Bratu, {n} points: scipy solve_bvp (tol 1e-8)", f"{theirs * 1e3:.1f} ms",
+                     "1.00"])
+        rows.append([f"Bratu, {n} points: splinestep.solve_bvp", f"{ours * 1e3:.1f} ms",
+                     f"{ours / theirs:.2f}"])
+    return rows
+
+
 def table(header, rows):
     lines = ["| " + " | ".join(header) + " |",
              "|" + "|".join("---:" if i else "---" for i in range(len(header))) + "|"]
@@ -260,6 +287,9 @@ def main(quick=False):
             lines += table(["implementation", "evaluations", "time per evaluation", "ratio"],
                            rows)
             lines.append("")
+    lines += ["**Whole-trajectory solves** (each pair in the same run)", ""]
+    lines += table(["solve", "time", "ratio to the first of its pair"], whole_trajectory_rows())
+    lines.append("")
     process = process_rows(quick)
     lines += table(["process", "seconds"], [[label, f"{s:.2f}"] for label, s in process])
     text = "\n".join(lines)

@@ -116,3 +116,10 @@ def say(text):
     measured number are built in code from the computation, never typed."""
     from IPython.display import Markdown, display
     display(Markdown(text))
+
+
+def span(pair, digits=2):
+    """A measured range for prose: "a to b", or "about a" when both round alike."""
+    lo, hi = (round_sig(v, digits) for v in pair)
+    text = f"{lo:g}" if lo == hi else f"{lo:g} to {hi:g}"
+    return f"about {text}" if lo == hi else text

@@ -23,7 +23,7 @@ NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.py"))
 # Notebooks that read the data the others write: run after all the others.
 LAST = ("05_claims_and_errata",)
 # The longest notebooks start first, so that the others run beside them.
-LONGEST = ("06_theory",)
+LONGEST = ("06_theory", "07_improvements")
 # Notebooks run at the same time (each kernel is one process).
 JOBS = int(os.environ.get("SPLINESTEP_JOBS", "2"))
 KERNELSPEC = {"name": "python3", "display_name": "Python 3 (ipykernel)", "language": "python"}

@@ -139,11 +139,37 @@ COLUMNS = {
     "rigid-body-energy-drift": dict(method="exact", energy_error_t80="error",
                                     energy_error_t800="error", max_energy_error="error",
                                     growth_ratio="error", drift_rate="error"),
+    # Notebook 07.  An adaptive run's knots come from accept/reject decisions.
+    "adaptive-estimate": dict(t="adaptive", h="adaptive", r="adaptive", estimated="adaptive",
+                              true="adaptive"),
+    "adaptive-work": dict(setting="exact", nfev="exact", final_error="error"),
+    "pleiades-steps": dict(status="exact", nfev="exact", nstep="exact", rejected="exact",
+                           failed="exact", t_end="state", error="error", flagged="exact"),
+    "newton-reuse": dict(nfev="exact", nstep="exact", niter="exact", error="error"),
+    "variable-step-energy": dict(orbit="exact", energy_error="error", nfev_per_orbit="exact"),
+    "composition-orders": dict(order="exact", slope="slope", largest_error="error",
+                               smallest_error="error"),
+    "composition-energy": dict(order="exact", orbit="exact", energy_error="error"),
+    "composition-work": dict(setting="exact", nfev="exact", max_error="error"),
+    "composition-ratios": dict(ratio_min="error", ratio_max="error"),
+    "global-sweep": dict(knots="exact", status="exact", newton_iterations="exact",
+                         nfev="exact", nfev_stepwise="exact", max_difference="rounding"),
+    "bvp-bratu": dict(points="exact", h="exact", status="exact", newton_iterations="exact",
+                      error="error", scipy_status="exact", scipy_points="adaptive",
+                      scipy_error="adaptive"),
 }
 
 # Rows produced by scipy's adaptive solvers, and which of their columns are
 # then of kind "adaptive" instead of the column's own kind.
 ADAPTIVE_ROWS = {
+    "adaptive-work": (lambda frame: frame["method"].str.startswith("adaptive"),
+                      ("nfev", "final_error")),
+    "pleiades-steps": (lambda frame: frame["run"].str.startswith("adaptive"),
+                       ("nfev", "nstep", "rejected", "failed", "t_end", "error")),
+    "composition-work": (lambda frame: frame["method"].str.startswith("scipy"),
+                         ("nfev", "max_error")),
+    "composition-ratios": (lambda frame: frame["baseline"].str.startswith("scipy"),
+                           ("ratio_min", "ratio_max")),
     "work-precision": (lambda frame: frame["method"].str.startswith("scipy"),
                        ("nfev", "max_error")),
     "work-to-reach": (lambda frame: frame["method"].str.startswith("scipy"),
@@ -154,6 +180,8 @@ ADAPTIVE_ROWS = {
 }
 # Rows of long adaptive runs, and their columns' kinds there.
 ADAPTIVE_LONG_ROWS = {
+    "variable-step-energy": (lambda frame: frame["method"].str.startswith("adaptive"),
+                             dict(energy_error="adaptive-long", nfev_per_orbit="adaptive")),
     "long-time-invariants": (lambda frame: frame["method"].str.startswith("DOP853"),
                              dict(energy_error="adaptive-long", momentum_error="adaptive-long")),
     "long-time-drift": (lambda frame: frame["method"].str.startswith("DOP853"),

@@ -76,3 +76,13 @@ def step_factor(norm, after_reject):
     if after_reject:
         factor = min(factor, 1.0)
     return factor
+
+
+def jump_estimates(t, ypp):
+    """The estimates est_y, est_y' (max over components) of every step of a
+    run after the first, from its knots ``t`` (k,) and y'' there (m, k): the
+    numbers the controller compares with the tolerance."""
+    jerk = np.diff(ypp, axis=1) / np.diff(t)
+    dt = np.diff(t)[1:]
+    y4 = np.abs(np.diff(jerk, axis=1)) / np.abs(0.5 * (np.diff(t)[1:] + np.diff(t)[:-1]))
+    return (np.max(ERR_Y * dt ** 4 * y4, axis=0), np.max(ERR_YP * np.abs(dt) ** 3 * y4, axis=0))

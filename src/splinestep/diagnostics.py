@@ -102,3 +102,18 @@ def ratio_range(reference, other):
     grid = np.geomspace(lo, hi, 200)
     ratio = loglog_interp(*other, grid) / loglog_interp(*reference, grid)
     return float(np.nanmin(ratio)), float(np.nanmax(ratio))
+
+
+def work_ratio_range(reference, other):
+    """Smallest and largest ratio reference_nfev / other_nfev at equal
+    error, over the errors both work-precision curves cover (interpolated
+    log-log at 200 errors).  Each argument is a pair (nfev, error); a ratio
+    above 1 means ``other`` needs fewer evaluations."""
+    lo = max(np.min(reference[1]), np.min(other[1]))
+    hi = min(np.max(reference[1]), np.max(other[1]))
+    if not lo < hi:
+        return float("nan"), float("nan")
+    grid = np.geomspace(lo, hi, 200)
+    ratio = (loglog_interp(reference[1], reference[0], grid)
+             / loglog_interp(other[1], other[0], grid))
+    return float(np.nanmin(ratio)), float(np.nanmax(ratio))
