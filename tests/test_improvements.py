@@ -111,6 +111,23 @@ def test_a_step_without_solution_is_rejected_and_retried():
     assert abs(res.y[0, -1] - np.cos(10.0)) < 1e-5
 
 
+def test_adaptive_run_with_a_terminal_event_and_t_eval():
+    """A ball thrown up at 5 m/s from 10 m lands at the root of the parabola;
+    the adaptive knots end there, and t_eval values come from the spline."""
+    def ground(t, y, yp):
+        return y[0]
+    ground.terminal, ground.direction = True, -1
+    res = splinestep.solve(lambda t, y, yp: -9.81 * np.ones(1), (0.0, 10.0), 10.0, 5.0,
+                           rtol=1e-6, events=ground)
+    landing = (5.0 + np.sqrt(25.0 + 2 * 9.81 * 10.0)) / 9.81
+    assert res.status == 1 and abs(res.t_events[0][0] - landing) < 1e-9
+    assert abs(res.t[-1] - landing) < 1e-9
+    t = np.linspace(0.0, 1.0, 5)
+    at = splinestep.solve(lambda t, y, yp: -9.81 * np.ones(1), (0.0, 1.0), 10.0, 5.0,
+                          rtol=1e-6, t_eval=t)
+    assert np.max(np.abs(at.y[0] - (10.0 + 5.0 * t - 4.905 * t ** 2))) < 1e-9
+
+
 def test_pleiades_adaptive_succeeds_where_uniform_steps_fail():
     problem = problems.pleiades()
     exact, _ = problem.reference(np.array([3.0]))
@@ -245,3 +262,23 @@ def test_reversible_steps_keep_the_energy_bounded_and_retrace():
     # a span of 2e3: agreement to about 1e-12 relative per step.
     assert np.max(np.abs(back.t[:k] - rev.t[k:0:-1])) < 1e-7
     assert np.max(np.abs(back.y[:, -1] - problem.y0)) < 1e-6
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(eps=0.0), "eps"), (dict(eps=float("inf")), "eps"), (dict(control=3.0), "control"),
+    (dict(rho0=-1.0), "rho0"), (dict(max_steps=0), "max_steps"),
+    (dict(iteration="global"), "iteration"),
+    (dict(control=lambda t, y, yp: "fast"), "control")])
+def test_solve_reversible_rejects_bad_input(kwargs, name):
+    call = dict(eps=0.1, control=lambda t, y, yp: 0.0)
+    call.update(kwargs)
+    with pytest.raises(ValueError, match=name):
+        splinestep.solve_reversible(lambda t, y, yp: -y, (0.0, 1.0), 1.0, 0.0, call.pop("eps"),
+                                    call.pop("control"), **call)
+
+
+def test_reversible_failure_is_reported():
+    """A control that drives rho below zero stops the run with status -1."""
+    res = splinestep.solve_reversible(lambda t, y, yp: -y, (0.0, 10.0), 1.0, 0.0, 0.1,
+                                      lambda t, y, yp: -5.0)
+    assert res.status == -1 and "rho" in res.message and res.t[-1] < 10.0

@@ -81,11 +81,7 @@ def _adaptive_loop(fun, args, jac, t0, tf, y0, yp0, rtol, atol, first_step, max_
         ypp[k] = g[k]
         if not abs(g[k]) < np.inf:
             return (NON_FINITE, NON_FINITE, 0, nfev, njev, niter, 0, 0, T, Y, YP, YPP)
-    T[0] = t0
-    for k in range(m):
-        Y[0, k] = y[k]
-        YP[0, k] = yp[k]
-        YPP[0, k] = ypp[k]
+    T, Y, YP, YPP = store_knot(T, Y, YP, YPP, 0, t0, y, yp, ypp)
     n_knots = 1
     span = abs(tf - t0)
     # y''' at t0 from one difference of F along the Taylor line: the first

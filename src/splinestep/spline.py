@@ -439,13 +439,7 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         locate(events, T, Y, YP, YPP)
     if terminal is not None:
         result, knot_values = _cut_at(result, knot_values, t_eval, terminal)
-    if events:
-        m = y0.size
-        result.t_events = [np.array(ev.times) for ev in events]
-        result.y_events = [np.array([s[0] for s in ev.states]).reshape(-1, m) for ev in events]
-        result.yp_events = [np.array([s[1] for s in ev.states]).reshape(-1, m) for ev in events]
-    else:
-        result.t_events = result.y_events = result.yp_events = None
+    _attach_events(result, events, y0.size)
     if dense_output and knot_values[0].size >= 2:
         result.sol = (SplineSolution if order == 2 else HermiteSolution)(*knot_values)
     result.path = path
@@ -455,6 +449,17 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     else:  # the estimate is that of one spline step, not of the composition
         result.local_error = result.local_error_yp = result.t_local_error = np.nan
     return result
+
+
+def _attach_events(result, events, m):
+    """The events' zeros as scipy's ``t_events``, ``y_events`` (and
+    ``yp_events``); None without events."""
+    if not events:
+        result.t_events = result.y_events = result.yp_events = None
+        return
+    result.t_events = [np.array(ev.times) for ev in events]
+    result.y_events = [np.array([s[0] for s in ev.states]).reshape(-1, m) for ev in events]
+    result.yp_events = [np.array([s[1] for s in ev.states]).reshape(-1, m) for ev in events]
 
 
 def _solve_adaptive(fun, jac, args, path, t0, tf, y0, yp0, t_eval, events, mode, n_iter,
@@ -472,12 +477,7 @@ def _solve_adaptive(fun, jac, args, path, t0, tf, y0, yp0, t_eval, events, mode,
         if index is not None:
             result, knot_values = _cut_at(result, knot_values, t_eval, (t_ev, y_ev, yp_ev,
                                                                         ypp_ev))
-        m = y0.size
-        result.t_events = [np.array(ev.times) for ev in events]
-        result.y_events = [np.array([s[0] for s in ev.states]).reshape(-1, m) for ev in events]
-        result.yp_events = [np.array([s[1] for s in ev.states]).reshape(-1, m) for ev in events]
-    else:
-        result.t_events = result.y_events = result.yp_events = None
+    _attach_events(result, events, y0.size)
     if dense_output and knot_values[0].size >= 2:
         result.sol = SplineSolution(*knot_values)
     result.path = path
