@@ -1,5 +1,7 @@
 # splinestep: one command regenerates everything, one runs every test.
-#   make reproduce   build .venv from environment.txt, run all notebooks, write data/ and figures/
+#   make reproduce   build .venv from environment.txt, run all notebooks, write data/ and figures/,
+#                    build the paper (paper/splinestep.pdf)
+#   make paper       build the paper alone from data/ and figures/
 #   make test        build .venv, run pytest (package tests and nbval on every notebook)
 #   make bench       speed benchmark (compiled, plain Python, scipy, C)
 #   make lab         JupyterLab at the repository root, .py <-> .ipynb pairs active
@@ -18,7 +20,7 @@ export SOURCE_DATE_EPOCH := 0
 # what another CPU's rounding does (names not present on a CPU are ignored).
 EMULATED_CPU := NPY_DISABLE_CPU_FEATURES="AVX512_ICL AVX512_SPR X86_V4 X86_V3" NUMBA_CPU_NAME=generic
 
-.PHONY: reproduce test test-emulated bench lab env clean
+.PHONY: reproduce paper test test-emulated bench lab env clean
 
 env: $(STAMP)
 
@@ -33,6 +35,11 @@ $(STAMP): environment.txt pyproject.toml
 
 reproduce: $(STAMP)
 	SPLINESTEP_JOBS=$(JOBS) $(BIN)/python scripts/reproduce.py
+	$(BIN)/python scripts/paper.py --machine
+
+# The paper from the data and figures as they are (no notebook runs).
+paper: $(STAMP)
+	$(BIN)/python scripts/paper.py
 
 # Notebooks run at once by make reproduce, and pytest-xdist workers of make
 # test (each notebook's cells stay on one worker).

@@ -149,14 +149,14 @@ def constant(name):
     return f"{row.derived:.4g} derived, {row.measured:.4g} measured"
 
 
-claim("Sec. 6", "a formal proof of convergence is future work",
+claim("Sec. 5", "a formal proof of convergence may lend insight",
       "the y_n obey the two-step method rho = (zeta - 1)^2, sigma = (zeta^2 + 4 zeta + 1)/6 "
       "(sympy), order 2, error constant -1/12, zero-stable; Henrici's theorem gives order 2. "
       "Constants against measurements: local error of y "
       f"{constant(theory.index[0])}; period error {constant(theory.index[2])}; stability limit "
       f"{constant(theory.index[3])}",
       "proved (notebooks/06_theory)")
-claim("Sec. 6", "higher-order polynomial splines with more continuity may do better",
+claim("Sec. 5", "higher-order polynomial splines with more continuity may do better",
       f"degree 4 (C3): extra root -1, order {theory.loc[theory.index[8], 'measured']:.2f} on the "
       f"ellipse but weakly stable (a parasitic mode that damping makes grow); degree 5 and 6: "
       f"spurious roots {degrees.loc[5, 'largest_spurious_root']:.3f} and "
@@ -181,8 +181,8 @@ curve = {m: (g.nfev.to_numpy(), g.max_error.to_numpy()) for m, g in by_method.it
 equal_work = diagnostics.ratio_range(curve["verlet"], curve["spline"])
 claim("(none)", "the spline stepper against Stormer-Verlet",
       f"ellipse, t in [0, 50], dt = 0.08 to 0.000625: at the same step the spline's error is "
-      f"{outputs.span((same_step.min(), same_step.max()), 3)} times Verlet's at "
-      f"{outputs.span((cost.min(), cost.max()), 3)} times its evaluations; at equal "
+      f"{outputs.span((same_step.min(), same_step.max()), decimals=2)} times Verlet's at "
+      f"{outputs.span((cost.min(), cost.max()), decimals=2)} times its evaluations; at equal "
       f"evaluations {outputs.span(equal_work)} times",
       "Verlet wins at equal work for y'' = f(y) (the same method in other variables)")
 
@@ -232,8 +232,9 @@ ellipse_4 = composition_work[(composition_work.method == "spline, order 4")
                              & (composition_work.setting == 0.01)].max_error.iloc[0]
 claim("Sec. 5", "higher order",
       f"symmetric compositions of the spline step (Yoshida): fitted slopes "
-      f"{outputs.span(orders[orders.order == 4].slope.agg(['min', 'max']), 3)} (order 4) and "
-      f"{outputs.span(orders[orders.order == 6].slope.agg(['min', 'max']), 3)} (order 6) on the "
+      f"{outputs.span(orders[orders.order == 4].slope.agg(['min', 'max']), decimals=2)} (order 4) "
+      f"and {outputs.span(orders[orders.order == 6].slope.agg(['min', 'max']), decimals=2)} "
+      f"(order 6) on the "
       f"four cannonball orbits and the rigid body; ellipse at dt = 0.01: {sci(ellipse_4)} "
       f"(order 4); energy error {sci(order4_energy.min())} to {sci(order4_energy.max())} over "
       f"10,000 orbits at dt = 0.05, without growth; "
@@ -266,6 +267,32 @@ claims = pd.DataFrame(claims)
 outputs.save_data(claims, "claims")
 for row in claims.itertuples():
     print(f"[{row.where}] {row.claim}\n    measured: {row.measured}\n    verdict: {row.verdict}")
+
+# %% [markdown]
+# The few numbers the paper (`paper/splinestep.typ`) states in its prose, each
+# with the text it prints, from the files above.
+
+# %%
+max_errors = outputs.read_data("cannonball-max-errors")
+ellipse_spline = max_errors[(max_errors.mu == 0.6) & (max_errors.method == "spline")].iloc[0]
+spline_slopes = slopes[slopes.method == "spline"].slope
+headline = [
+    ("position error, ellipse, dt = 0.01", ellipse_spline.position_error,
+     sci(ellipse_spline.position_error)),
+    ("smallest spline slope", spline_slopes.min(), f"{spline_slopes.min():.3f}"),
+    ("largest spline slope", spline_slopes.max(), f"{spline_slopes.max():.3f}"),
+    ("energy growth exponent, spline", long_drift.loc["spline", "energy_exponent"],
+     f"{long_drift.loc['spline', 'energy_exponent']:+.2f}"),
+    ("energy growth exponent, RK4 same work", long_drift.loc["RK4, same work", "energy_exponent"],
+     f"{long_drift.loc['RK4, same work', 'energy_exponent']:.2f}"),
+    ("adaptive gain, one sweep", gain_one[0], outputs.span(gain_one)),
+    ("order 4 error, ellipse, dt = 0.01", ellipse_4, sci(ellipse_4)),
+    ("Verlet at equal work, smallest factor", equal_work[0], f"{equal_work[0]:.1f}"),
+    ("Verlet at equal work, largest factor", equal_work[1], f"{equal_work[1]:.1f}"),
+]
+headline = pd.DataFrame(headline, columns=["name", "value", "text"])
+outputs.save_data(headline, "headline-numbers")
+print(headline.to_string(index=False))
 
 # %% [markdown]
 # ## Errata

@@ -576,7 +576,7 @@ ax.legend(loc="upper left", fontsize=outputs.MIN_FONT)
 bx.set_xlabel("mesh width $h$")
 bx.set_ylabel("max error")
 bx.set_title("Error against the exact solutions")
-bx.legend(loc="upper left", fontsize=outputs.MIN_FONT)
+bx.legend(loc="center right", fontsize=outputs.MIN_FONT)
 outputs.save_figure(fig, "bvp-bratu")
 
 # %%

@@ -118,8 +118,11 @@ def say(text):
     display(Markdown(text))
 
 
-def span(pair, digits=2):
-    """A measured range for prose: "a to b", or "about a" when both round alike."""
-    lo, hi = (round_sig(v, digits) for v in pair)
-    text = f"{lo:g}" if lo == hi else f"{lo:g} to {hi:g}"
-    return f"about {text}" if lo == hi else text
+def span(pair, digits=2, decimals=None):
+    """A measured range for prose: "a to b", or "about a" when both print
+    alike (to ``digits`` significant digits, or to ``decimals`` places)."""
+    if decimals is None:
+        lo, hi = (f"{round_sig(v, digits):g}" for v in pair)
+    else:
+        lo, hi = (f"{v:.{decimals}f}" for v in pair)
+    return f"about {lo}" if lo == hi else f"{lo} to {hi}"

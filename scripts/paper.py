@@ -1,0 +1,63 @@
+"""Build the paper: paper/splinestep.typ -> paper/splinestep.pdf with Typst
+(the ``typst`` package pinned in environment.txt), from data/ and figures/.
+
+No network (no Typst Universe packages), only the fonts Typst ships
+(``ignore_system_fonts``), and no date (``set document(date: none)``): the
+same sources give the same bytes on any machine.
+
+    python scripts/paper.py [OUTPUT.pdf]
+"""
+
+import platform
+import sys
+import time
+from pathlib import Path
+
+import typst
+
+ROOT = Path(__file__).resolve().parents[1]
+SOURCE = ROOT / "paper" / "splinestep.typ"
+PDF = ROOT / "paper" / "splinestep.pdf"
+MACHINE = ROOT / "data" / "machine.txt"
+
+
+def machine_description():
+    """The machine a `make reproduce` ran on, for the paper's last section."""
+    import numba
+    import numpy
+    import scipy
+    cpu = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return (f"{cpu}, {platform.system()} {platform.machine()}, Python "
+            f"{platform.python_version()}, numpy {numpy.__version__}, scipy "
+            f"{scipy.__version__}, numba {numba.__version__}\n")
+
+
+def build(output=PDF, root=ROOT):
+    """Compile the paper of the repository at ``root`` into ``output``;
+    returns the seconds it took."""
+    start = time.perf_counter()
+    typst.compile(str(Path(root) / SOURCE.relative_to(ROOT)), output=str(output),
+                  root=str(root), ignore_system_fonts=True)
+    return time.perf_counter() - start
+
+
+def query(selector):
+    """Typst's query of the paper's elements (JSON text)."""
+    return typst.query(str(SOURCE), selector, root=str(ROOT), ignore_system_fonts=True)
+
+
+if __name__ == "__main__":
+    target = Path(sys.argv[1]) if len(sys.argv) > 1 else PDF
+    if "--machine" in sys.argv:
+        MACHINE.write_text(machine_description())
+        target = PDF
+    seconds = build(target)
+    print(f"{target.relative_to(ROOT) if target.is_relative_to(ROOT) else target}: "
+          f"built in {seconds:.2f} s")
