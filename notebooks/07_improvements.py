@@ -447,6 +447,7 @@ for method, (nfev, error) in work_curves.items():
 bx.set_xlabel("right-hand-side evaluations over $t \\in [0, 50]$")
 bx.set_ylabel("max position error")
 bx.set_title("Work against precision, ellipse $\\mu = 0.6$")
+bx.set_ylim(1e-15, 1.0)
 bx.legend(loc="lower left", fontsize=outputs.MIN_FONT, ncol=2)
 outputs.save_figure(fig, "composition")
 
@@ -572,11 +573,13 @@ for branch, amplitude, color in (("lower", 0.1, "C0"), ("upper", 4.0, "C3")):
 ax.set_xlabel("$x$")
 ax.set_ylabel("$y$ (line: exact)")
 ax.set_title("Bratu, $\\lambda = 1$")
-ax.legend(loc="upper left", fontsize=outputs.MIN_FONT)
+ax.set_ylim(-0.2, 5.8)
+ax.legend(loc="upper center", fontsize=outputs.MIN_FONT)
 bx.set_xlabel("mesh width $h$")
 bx.set_ylabel("max error")
 bx.set_title("Error against the exact solutions")
-bx.legend(loc="center right", fontsize=outputs.MIN_FONT)
+bx.set_ylim(1e-13, 1.0)
+bx.legend(loc="lower center", bbox_to_anchor=(0.5, 0.28), ncol=2, fontsize=outputs.MIN_FONT)
 outputs.save_figure(fig, "bvp-bratu")
 
 # %%
