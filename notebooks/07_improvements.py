@@ -136,8 +136,8 @@ outputs.say(
     f"to {outputs.sci(np.diff(run.t).max())} (median ratio {np.median(ratio):.2f}).  At equal "
     f"final error the uniform step needs {outputs.span(gain_one)} times the evaluations of the "
     f"adaptive knots (one sweep per step on both sides, the cheapest form of each), "
-    f"{outputs.span(gain_iter)} times when both iterate to convergence: the issue's target "
-    f"of 10 is met by the cheapest runs and over part of the range by the iterated ones.")
+    f"{outputs.span(gain_iter)} times when both iterate to convergence: a tenfold saving for "
+    f"the cheapest runs, and over part of the range for the iterated ones.")
 
 # %% [markdown]
 # ### A step whose equation has no solution
@@ -193,8 +193,9 @@ outputs.say(
     f"Newton alike, at a close encounter; in between, h = "
     f"{' and '.join(f'{h:g}' for h in reaching)} reach t = 3 with errors of "
     f"{wrong.error.min():.1f} to {wrong.error.max():.1f}, flagged by the run's own check "
-    f"(status 0 with a warning).  So \"every uniform step of 2.9e-3 or more fails\" is not what "
-    f"we measure: whether a step fails depends on where the knots fall.  The adaptive knots "
+    f"(status 0 with a warning).  Failure does not set in above one step size: whether a "
+    f"step equation loses its solution depends on where the knots fall relative to the close "
+    f"encounters.  The adaptive knots "
     f"reach t = 3 in every run ({int(adaptive_rows.failed.sum())} failed step equations: the "
     f"error estimate shrinks the step before the equation fails), with errors "
     f"{outputs.sci(adaptive_rows.error.min())} to {outputs.sci(adaptive_rows.error.max())}.  "
@@ -203,8 +204,8 @@ outputs.say(
 
 # %% [markdown]
 # ### Newton's method with a kept matrix
-# Newton's method rebuilt a finite-difference Jacobian at every iteration:
-# $m$ extra evaluations each time.  Like RADAU5 it now keeps the matrix
+# Full Newton rebuilds a finite-difference Jacobian at every iteration:
+# $m$ extra evaluations each time.  Like RADAU5, the package's Newton keeps the matrix
 # $I - h^2/6\,\partial F/\partial y - h/2\,\partial F/\partial y'$ and its LU
 # factors across iterations and steps, and rebuilds them when an iteration
 # contracts too slowly, fails, or the step changes by more than a set
@@ -307,7 +308,8 @@ outputs.say(
 
 # %% [markdown]
 # ## 3. Order 4 and 6 that keep what is good
-# Higher-degree splines fail (notebook 06).  What works: the spline step is
+# Higher-degree splines give no usable higher order (notebook 06).  What
+# works: the spline step is
 # symmetric (stepping back with $-h$ undoes it), so a symmetric composition of
 # it raises the order and keeps the symmetry.  `solve(order=4)` takes each
 # step as three spline steps of sizes $\gamma_1 h, \gamma_2 h, \gamma_1 h$
@@ -503,8 +505,9 @@ outputs.say(
     f"The global solve gives the stepwise solution to "
     f"{outputs.sci(global_table.max_difference.max(), 1)} in {global_table.newton_iterations.min()} "
     f"to {global_table.newton_iterations.max()} Newton iterations, each of which evaluates "
-    f"$F$ and its Jacobian at every knot: {global_table.nfev.min() / global_table.nfev_stepwise.min():.0f} "
-    f"to {(global_table.nfev / global_table.nfev_stepwise).max():.0f} times the stepwise "
+    f"$F$ and its Jacobian at every knot: "
+    f"{(global_table.nfev / global_table.nfev_stepwise).min():.1f} to "
+    f"{(global_table.nfev / global_table.nfev_stepwise).max():.1f} times the stepwise "
     f"evaluations, and a sparse factorisation of the whole trajectory.  On one processor it "
     f"does not pay (`make bench` times it).  What it would need is the structure of "
     f"parallel-in-time methods: the knots' evaluations and the factorisation split over "
