@@ -282,3 +282,23 @@ def test_reversible_failure_is_reported():
     res = splinestep.solve_reversible(lambda t, y, yp: -y, (0.0, 10.0), 1.0, 0.0, 0.1,
                                       lambda t, y, yp: -5.0)
     assert res.status == -1 and "rho" in res.message and res.t[-1] < 10.0
+
+
+def test_bvp_with_general_boundary_conditions():
+    """y'' = y with y(0) + y'(0) = 1 and y(1) = 0: exact y = (e^x - e^(2 - x)) / 2;
+    the conditions as a residual bc(ya, ypa, yb, ypb), as scipy's solve_bvp."""
+    def bc(ya, ypa, yb, ypb):
+        return np.array([ya[0] + ypa[0] - 1.0, yb[0]])
+    errors, hs = [], []
+    for n in (21, 41, 81):
+        x = np.linspace(0.0, 1.0, n)
+        res = splinestep.solve_bvp(lambda t, y, yp: y, x, bc=bc, y_guess=np.zeros((1, n)))
+        assert res.success, res.message
+        errors.append(np.max(np.abs(res.y[0] - (np.exp(x) - np.exp(2 - x)) / 2)))
+        hs.append(x[1])
+    assert 1.95 <= fitted_order(np.array(hs), errors) <= 2.05
+    with pytest.raises(ValueError, match="bc"):
+        splinestep.solve_bvp(lambda t, y, yp: y, x, 0.0, 1.0, bc=bc)
+    with pytest.raises(ValueError, match="2m"):
+        splinestep.solve_bvp(lambda t, y, yp: y, x, bc=lambda a, b, c, d: [a[0]],
+                             y_guess=np.zeros((1, x.size)))

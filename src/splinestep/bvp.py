@@ -71,13 +71,18 @@ def _system(t, U, F, Fy, Fyp, boundary):
     ``U`` is (n+1, 3, m): y, y', y'' per knot.  ``boundary`` is a list of
     (knot, component 0 for y or 1 for y', target values), m rows each;
     those at knot 0 come before its equations, the others after the last
-    interval's (so the matrix stays banded)."""
+    interval's (so the matrix stays banded); or a callable
+    ``bc(y_a, yp_a, y_b, yp_b) -> (2m,)``, whose rows come last (they couple
+    the two ends; SuperLU fills them in) and whose Jacobian is taken by
+    finite differences."""
     k, _, m = U.shape
     n = k - 1
     dt = np.diff(t)
     Y, YP, Z = U[:, 0], U[:, 1], U[:, 2]
     r_y, r_yp = relations(dt[:, None], Y[:-1], YP[:-1], Z[:-1], Y[1:], YP[1:], Z[1:])
     r_z = Z - F
+    general = boundary if callable(boundary) else None
+    boundary = [] if general else boundary
     first = [b for b in boundary if b[0] == 0]
     rest = [b for b in boundary if b[0] != 0]
     start = m * len(first)          # rows of the boundary conditions at knot 0
@@ -119,6 +124,22 @@ def _system(t, U, F, Fy, Fyp, boundary):
         put(end + j * m, knot, part, np.eye(m)[None])
     size = 3 * m * k
     residual = np.empty(size)
+    if general is not None:
+        ends = [U[0, 0], U[0, 1], U[-1, 0], U[-1, 1]]
+        value = np.asarray(general(*ends), dtype=float).reshape(2 * m)
+        residual[end:] = value
+        for slot, (knot, part) in enumerate(((0, 0), (0, 1), (n, 0), (n, 1))):
+            block = np.empty((2 * m, m))
+            for j in range(m):
+                moved = [e.copy() for e in ends]
+                step = FD_STEP * max(1.0, abs(moved[slot][j]))
+                moved[slot][j] += step
+                block[:, j] = (np.asarray(general(*moved), dtype=float).reshape(2 * m)
+                               - value) / step
+            rr, cc = np.indices((2 * m, m)).reshape(2, -1)
+            rows.append(end + rr)
+            cols.append(3 * m * knot + part * m + cc)
+            vals.append(block[rr, cc])
     for j, (knot, part, target) in enumerate(first):
         residual[j * m:(j + 1) * m] = U[knot, part] - target
     residual[(z_rows[:, None] + np.arange(m)).ravel()] = r_z.ravel()
@@ -198,10 +219,11 @@ def solve_global(fun, t0, tf, y0, yp0, h, n, knots, t_eval, args, tol, max_iter,
     return result
 
 
-def solve_bvp(fun, x, ya, yb, *, y_guess=None, tol=1e-10, max_iter=50, jac=None, args=()):
+def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-10, max_iter=50,
+              jac=None, args=()):
     """Solve the boundary value problem y'' = F(x, y, y'), y(x[0]) = ya,
-    y(x[-1]) = yb, with the C2 cubic spline on the mesh ``x`` that satisfies
-    the equation at every mesh point.
+    y(x[-1]) = yb (or general conditions ``bc``), with the C2 cubic spline on
+    the mesh ``x`` that satisfies the equation at every mesh point.
 
     Parameters
     ----------
@@ -210,7 +232,12 @@ def solve_bvp(fun, x, ya, yb, *, y_guess=None, tol=1e-10, max_iter=50, jac=None,
     x : array_like, shape (k,)
         The mesh, strictly increasing, k >= 3.
     ya, yb : float or array_like, shape (m,)
-        The boundary values.
+        The boundary values (None when ``bc`` is given).
+    bc : callable, optional
+        ``bc(y_a, yp_a, y_b, yp_b) -> residual`` of shape (2m,), zero when the
+        conditions hold, as scipy's ``solve_bvp``'s ``bc`` for the
+        first-order form; instead of ``ya`` and ``yb``, with ``y_guess``
+        giving m.  Its Jacobian is taken by finite differences.
     y_guess : array_like, shape (m, k), optional
         Initial guess of y on the mesh (zero by default), as in
         ``scipy.integrate.solve_bvp``; a problem with several solutions
@@ -244,8 +271,19 @@ def solve_bvp(fun, x, ya, yb, *, y_guess=None, tol=1e-10, max_iter=50, jac=None,
     if x.ndim != 1 or x.size < 3 or not np.all(np.isfinite(x)) or not np.all(np.diff(x) > 0):
         raise ValueError("x must be a finite, strictly increasing 1-D array of at least "
                          "3 points")
-    ya, yb = _base.check_state(ya, yb)
-    m = ya.size
+    if bc is None:
+        if ya is None or yb is None:
+            raise ValueError("give ya and yb, or bc")
+        ya, yb = _base.check_state(ya, yb)
+        m = ya.size
+    else:
+        if ya is not None or yb is not None:
+            raise ValueError("give ya and yb, or bc, not both")
+        if not callable(bc):
+            raise ValueError("bc must be callable")
+        if y_guess is None:
+            raise ValueError("bc needs y_guess (of shape (m, x.size)) to give m")
+        m = np.atleast_2d(np.asarray(y_guess, dtype=float)).shape[0]
     args = _base.check_args(args)
     if not callable(fun):
         raise ValueError("fun must be callable")
@@ -261,14 +299,22 @@ def solve_bvp(fun, x, ya, yb, *, y_guess=None, tol=1e-10, max_iter=50, jac=None,
     if y_guess.shape != (m, x.size) or not np.all(np.isfinite(y_guess)):
         raise ValueError(f"y_guess must be finite, of shape ({m}, {x.size}), "
                          f"got shape {y_guess.shape}")
-    _base.check_fun(fun, x[0], ya, np.zeros(m), args)
-    if jac is not None:
-        _base.check_jac(jac, x[0], ya, np.zeros(m), args)
     Y = y_guess.T.copy()
+    _base.check_fun(fun, x[0], Y[0], np.zeros(m), args)
+    if jac is not None:
+        _base.check_jac(jac, x[0], Y[0], np.zeros(m), args)
+    if bc is not None:
+        try:
+            value = np.asarray(bc(Y[0], np.zeros(m), Y[-1], np.zeros(m)), dtype=float)
+        except Exception as error:
+            raise ValueError(f"bc raised {type(error).__name__}: {error}") from error
+        if value.shape != (2 * m,):
+            raise ValueError(f"bc must return {2 * m} residuals (2m), got shape {value.shape}")
     YP = np.gradient(Y, x, axis=0)
     Z = np.gradient(YP, x, axis=0)
     U = np.stack([Y, YP, Z], axis=1)
     with np.errstate(all="ignore"):
         status, message, niter, nfev, njev = newton(
-            fun, jac, args, x, U, [(0, 0, ya), (x.size - 1, 0, yb)], tol, max_iter)
+            fun, jac, args, x, U, bc if bc is not None else [(0, 0, ya), (x.size - 1, 0, yb)],
+            tol, max_iter)
     return _result(x, U, status, message, niter, nfev, njev)
