@@ -77,3 +77,39 @@ def test_a_change_to_any_file_of_the_package_changes_every_cache_stamp(tmp_path,
     base = copy / "_base.py"
     base.write_text(base.read_text().replace("SLIVER = 1e-9", "SLIVER = 1e-8"))
     assert _compile._package_stamp() != _compile.PACKAGE_STAMP
+
+
+CONTROL_MODULE = '''
+import numpy as np
+
+def control(t, y, yp):
+    return -1.5 * np.dot(y, yp) / np.dot(y, y)
+'''
+
+RUN_CONTROL = '''
+import sys
+sys.path.insert(0, {folder!r})
+import splinestep
+from {module} import control
+res = splinestep.solve_reversible(lambda t, y, yp: -y / (y @ y) ** 1.5, (0.0, 6.0),
+                                  [1.0, 0.0], [0.0, 1.0], 0.05, control)
+assert res.success, res.message
+print(res.nstep)
+'''
+
+
+def test_a_plain_control_is_not_frozen_into_the_cache(tmp_path):
+    """A plain-Python step-size control from one process's module must not
+    end up in numba's cache: a later process that never saw that module
+    loads the same compiled loops (a global read inside the object-mode
+    trampoline would have pickled the first process's function)."""
+    counts = []
+    for module in ("control_first", "control_second"):
+        folder = tmp_path / module
+        folder.mkdir()
+        (folder / f"{module}.py").write_text(CONTROL_MODULE)
+        code = textwrap.dedent(RUN_CONTROL.format(folder=str(folder), module=module))
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+        assert out.returncode == 0, out.stderr[-2000:]
+        counts.append(int(out.stdout.split()[-1]))
+    assert counts[0] == counts[1] > 0

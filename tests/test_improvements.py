@@ -35,6 +35,20 @@ def test_composition_is_fourth_order_between_knots(name):
     assert 3.8 <= fitted_order(HS4, errors) <= 4.2
 
 
+def test_a_composed_run_with_a_step_far_too_large_is_flagged():
+    """Order 4 on y'' = -y at omega h = 3 stays bounded but is meaningless
+    (three steps per period): the run says so; at omega h = 0.1 it does not."""
+    coarse = problems.harmonic(1.0, (0.0, 60.0), 3.0)
+    with pytest.warns(UserWarning, match="too large"):
+        res = coarse.solve(order=4, iteration="newton")
+    assert res.status == 0 and "too large" in res.message
+    fine = problems.harmonic(1.0, (0.0, 60.0), 0.1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = fine.solve(order=4)
+    assert np.max(np.abs(res.y[0] - np.cos(res.t))) < 1e-3   # 1.7e-4: order 4, 10 periods
+
+
 def test_order_four_and_six_on_the_ellipse():
     """At the report's step: order 4 reaches 2e-7 (order 2: 4.1e-3), order 6
     1.2e-12; order 6's slope is 6."""

@@ -148,10 +148,16 @@ def _python_fun(t, y, yp, key):
     return g
 
 
+def _call_scalar(key, t, y, yp):
+    return float(_FUNS[key](t, y, yp))
+
+
 @njit(cache=True)
 def _python_scalar(t, y, yp, key):
+    # Through a module function, as _python_fun: a global read inside the
+    # object-mode block would be frozen into the on-disk cache.
     with objmode(g="float64"):
-        g = float(_FUNS[key](t, y, yp))
+        g = _call_scalar(key, t, y, yp)
     return g
 
 
