@@ -216,6 +216,18 @@ def test_bvp_without_solution_fails_with_a_message():
     assert res.status == -1 and not res.success and "Newton" in res.message
 
 
+def test_bvp_whose_right_hand_side_raises_part_way_fails_with_a_message():
+    """math.sqrt of a negative iterate raises ValueError inside Newton's
+    method: status -1 with a message, not an exception."""
+    import math
+
+    def fun(x, y, yp):
+        return np.array([-math.sqrt(1.0 + y[0])])
+    x = np.linspace(0.0, 1.0, 41)
+    res = splinestep.solve_bvp(fun, x, 0.0, 0.0, y_guess=-3.0 * np.sin(np.pi * x)[None])
+    assert res.status == -1 and "ValueError" in res.message
+
+
 @pytest.mark.parametrize("kwargs, name", [
     (dict(x=[0.0, 1.0]), "x"), (dict(x=[0.0, 0.5, 0.5, 1.0]), "x"),
     (dict(y_guess=np.zeros((2, 5))), "y_guess"), (dict(tol=0.0), "tol"),

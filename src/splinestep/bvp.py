@@ -162,7 +162,12 @@ def newton(fun, jac, args, t, U, boundary, tol, max_iter):
     not (the message says why)."""
     nfev = njev = 0
     for it in range(1, max_iter + 1):
-        F, Fy, Fyp, fe, je = _evaluate(fun, jac, args, t, U[:, 0], U[:, 1])
+        try:
+            F, Fy, Fyp, fe, je = _evaluate(fun, jac, args, t, U[:, 0], U[:, 1])
+        except (ArithmeticError, ValueError) as error:
+            return -1, (f"Newton iteration {it}: the right-hand side raised "
+                        f"{type(error).__name__} at the current iterate: {error}"), it - 1, \
+                nfev, njev
         nfev += fe
         njev += je
         if not (np.all(np.isfinite(F)) and np.all(np.isfinite(Fy))
