@@ -86,7 +86,6 @@ FLOAT = types.float64
 INT = types.int64
 BOOL = types.boolean
 INT_VECTOR = types.int64[::1]
-MATRIX = types.float64[:, ::1]
 
 # (python loop, argument types) -> numba dispatcher compiled for those types
 _LOOPS = {}

@@ -15,7 +15,7 @@ from . import _base, _compile
 from ._base import BAD_SHAPE, FD_STEP, NON_FINITE, OK, as_vector, wrong_length
 from .controllers import FAILED_FACTOR, error_norm, step_factor
 from .result import OdeResult, SplineSolution
-from .step import newton_state, spline_step
+from .step import step_state, spline_step
 
 # Status codes of the adaptive loop beyond the step's own.
 STEP_TOO_SMALL = 10
@@ -66,7 +66,7 @@ def _adaptive_loop(fun, args, jac, t0, tf, y0, yp0, rtol, atol, first_step, max_
     yp_new = np.empty(m)
     jerk = np.empty(m)
     jerk_new = np.empty(m)
-    lu, piv, info = newton_state(m, 1)
+    work, lu, piv, info = step_state(m, 1)
     nfev = 0
     njev = 0
     niter = 0
@@ -127,8 +127,8 @@ def _adaptive_loop(fun, args, jac, t0, tf, y0, yp0, rtol, atol, first_step, max_
         t_new = tf if dt == remaining else t + direction * dt
         signed = t_new - t
         status, fe, je, it = spline_step(fun, args, jac, t_new, signed, y, yp, ypp, z, y_new,
-                                         yp_new, mode, n_iter, until_converged, tol, reuse, lu[0],
-                                         piv[0], info[0])
+                                         yp_new, mode, n_iter, until_converged, tol, reuse, work,
+                                         lu, piv, info, 0)
         nfev += fe
         njev += je
         niter += it
@@ -200,19 +200,18 @@ def build_result(out, t0, t_eval, max_iter, max_steps):
         message = (f"The step size fell below the rounding floor at t = {_base.short(t_end)}: "
                    f"the last step tried was rejected because {why}. Returning the "
                    f"{n_knots - 1} steps accepted before it.")
-    if t_eval is None or n_knots < 2:
-        keep = np.ones(n_knots, bool) if t_eval is None else np.zeros(n_knots, bool)
-        t, y, yp, ypp = T[keep], Y[keep], YP[keep], YPP[keep]
-    else:
+    if t_eval is None:      # the knots (values (m, k), as scipy)
+        t, y, yp, ypp = T, Y.T, YP.T, YPP.T
+    elif n_knots < 2:       # nothing to evaluate the spline on
+        t, y, yp, ypp = T[:0], Y[:0].T, YP[:0].T, YPP[:0].T
+    else:                   # the spline at the requested times it reached
         direction = 1.0 if T[-1] >= T[0] else -1.0
-        inside = t_eval[direction * (t_eval - T[-1]) <= 0]
+        t = t_eval[direction * (t_eval - T[-1]) <= 0]
         sol = SplineSolution(T, Y, YP, YPP)
-        t = inside
-        y, yp, ypp = (sol(inside, nu).T for nu in range(3))
+        y, yp, ypp = (sol(t, nu) for nu in range(3))
     result = OdeResult(
-        t=np.array(t), y=np.array(y).T.copy(), yp=np.array(yp).T.copy(),
-        ypp=np.array(ypp).T.copy(), sol=None, nfev=int(nfev), njev=int(njev),
-        niter=int(niter), nstep=int(n_knots - 1), n_rejected=int(n_rejected),
-        n_failed=int(n_failed), status=0 if status == OK else -1, message=message,
-        success=status == OK)
+        t=t.copy(), y=np.array(y), yp=np.array(yp), ypp=np.array(ypp), sol=None,
+        nfev=int(nfev), njev=int(njev), niter=int(niter), nstep=int(n_knots - 1),
+        n_rejected=int(n_rejected), n_failed=int(n_failed), status=0 if status == OK else -1,
+        message=message, success=status == OK)
     return result, (T, Y, YP, YPP)

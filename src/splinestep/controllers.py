@@ -37,7 +37,7 @@ References
 import numpy as np
 from numba import njit
 
-from .step import ERR_Y, ERR_YP
+from .step import local_errors
 
 SAFETY = 0.9
 MIN_FACTOR = 0.2
@@ -54,11 +54,8 @@ def error_norm(dt, dt_prev, jerk_new, jerk_old, y, yp, y_new, yp_new, rtol, atol
     where ``jerk_old`` is y''' at the knot itself)."""
     m = y.shape[0]
     total = 0.0
-    spread = abs(0.5 * (dt + dt_prev))
     for k in range(m):
-        y4 = abs(jerk_new[k] - jerk_old[k]) / spread
-        est_y = ERR_Y * dt * dt * dt * dt * y4
-        est_yp = ERR_YP * abs(dt * dt * dt) * y4
+        est_y, est_yp = local_errors(jerk_new[k], jerk_old[k], dt, dt_prev)
         scale_y = atol[k] + rtol * max(abs(y[k]), abs(y_new[k]))
         scale_yp = atol[k] + rtol * max(abs(yp[k]), abs(yp_new[k]))
         total += (est_y / scale_y) ** 2 + (est_yp / scale_yp) ** 2
@@ -82,7 +79,7 @@ def jump_estimates(t, ypp):
     """The estimates est_y, est_y' (max over components) of every step of a
     run after the first, from its knots ``t`` (k,) and y'' there (m, k): the
     numbers the controller compares with the tolerance."""
-    jerk = np.diff(ypp, axis=1) / np.diff(t)
-    dt = np.diff(t)[1:]
-    y4 = np.abs(np.diff(jerk, axis=1)) / np.abs(0.5 * (np.diff(t)[1:] + np.diff(t)[:-1]))
-    return (np.max(ERR_Y * dt ** 4 * y4, axis=0), np.max(ERR_YP * np.abs(dt) ** 3 * y4, axis=0))
+    steps = np.diff(t)
+    jerk = np.diff(ypp, axis=1) / steps
+    est_y, est_yp = local_errors(jerk[:, 1:], jerk[:, :-1], steps[1:], steps[:-1])
+    return np.max(est_y, axis=0), np.max(est_yp, axis=0)

@@ -3,6 +3,7 @@ and the dense output of the spline stepper."""
 
 import numpy as np
 from scipy.interpolate import PPoly
+from numba.extending import register_jitable
 from scipy.optimize import OptimizeResult
 
 
@@ -80,6 +81,21 @@ class SplineSolution:
         return np.moveaxis(self.ppoly(t, nu), -1, 0)
 
 
+@register_jitable
+def quintic_coefficients(dt, p0, v0, a0, p1, v1, a1):
+    """The s^3, s^4, s^5 coefficients of the quintic with value, slope and
+    second derivative (p0, v0, a0) at s = 0 and (p1, v1, a1) at s = dt
+    (numbers in compiled code, arrays in Python)."""
+    # What the quadratic Taylor part leaves at s = dt, in value, slope and
+    # second derivative; the three coefficients solve a 3 x 3 system.
+    rp = p1 - p0 - dt * (v0 + 0.5 * dt * a0)
+    rv = (v1 - v0 - dt * a0) * dt
+    ra = (a1 - a0) * dt * dt
+    return ((10.0 * rp - 4.0 * rv + 0.5 * ra) / dt ** 3,
+            (-15.0 * rp + 7.0 * rv - ra) / dt ** 4,
+            (6.0 * rp - 3.0 * rv + 0.5 * ra) / dt ** 5)
+
+
 class HermiteSolution(SplineSolution):
     """The quintic Hermite interpolant through the knots' values and first
     two derivatives: the dense output of a composed (order 4 or 6) run,
@@ -91,11 +107,6 @@ class HermiteSolution(SplineSolution):
     def __init__(self, knots, y, yp, ypp):
         h = np.diff(knots)[:, None]
         p0, v0, a0, p1, v1, a1 = y[:-1], yp[:-1], ypp[:-1], y[1:], yp[1:], ypp[1:]
-        rp = p1 - p0 - h * (v0 + 0.5 * h * a0)
-        rv = (v1 - v0 - h * a0) * h
-        ra = (a1 - a0) * h ** 2
-        c3 = (10 * rp - 4 * rv + 0.5 * ra) / h ** 3
-        c4 = (-15 * rp + 7 * rv - ra) / h ** 4
-        c5 = (6 * rp - 3 * rv + 0.5 * ra) / h ** 5
+        c3, c4, c5 = quintic_coefficients(h, p0, v0, a0, p1, v1, a1)
         self.ppoly = PPoly(np.stack([c5, c4, c3, 0.5 * a0, v0, p0]), knots, extrapolate=False)
         self.t_min, self.t_max = min(knots[0], knots[-1]), max(knots[0], knots[-1])

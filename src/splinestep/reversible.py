@@ -31,7 +31,7 @@ from . import _base, _compile
 from ._base import OK
 from .adaptive import store_knot
 from .result import OdeResult, SplineSolution
-from .step import FIXED_POINT, NEWTON, newton_state, spline_step
+from .step import FIXED_POINT, NEWTON, step_state, spline_step
 
 
 # Status of the loop beyond the step's own.
@@ -55,7 +55,7 @@ def _reversible_loop(fun, args, jac, control, control_args, t0, tf, y0, yp0, ypp
     z = np.empty(m)
     y_new = np.empty(m)
     yp_new = np.empty(m)
-    lu, piv, info = newton_state(m, 1)
+    work, lu, piv, info = step_state(m, 1)
     T, Y, YP, YPP = store_knot(T, Y, YP, YPP, 0, t0, y, yp, ypp)
     n_knots = 1
     nfev = 0
@@ -74,8 +74,8 @@ def _reversible_loop(fun, args, jac, control, control_args, t0, tf, y0, yp0, ypp
         h = eps / rho
         t_new = tf if h >= abs(tf - t) else t + direction * h
         status, fe, je, it = spline_step(fun, args, jac, t_new, t_new - t, y, yp, ypp, z, y_new,
-                                         yp_new, mode, n_iter, True, tol, True, lu[0], piv[0],
-                                         info[0])
+                                         yp_new, mode, n_iter, True, tol, True, work, lu, piv,
+                                         info, 0)
         nfev += fe
         njev += je
         niter += it

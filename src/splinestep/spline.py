@@ -26,8 +26,8 @@ from . import _base, _compile, adaptive, check
 from .events import check_events, locate
 from ._base import BAD_SHAPE, NON_FINITE, OK, as_vector, wrong_length
 from .result import HermiteSolution, SplineSolution
-from .step import (ERR_Y, ERR_YP, FIXED_POINT, NEWTON, YP_WEIGHT, Y_WEIGHT, composed_step,
-                   newton_state, quintic)
+from .step import (FIXED_POINT, NEWTON, YP_WEIGHT, Y_WEIGHT, composed_step, local_errors,
+                   quintic, spline_step, step_state)
 
 ITERATIONS = ("fixed-point", "newton", "global")
 
@@ -71,7 +71,7 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0,
     YPE, YPPE), see ``_base.build_result``; ``estimate`` is (err_y, t_err_y,
     err_yp, y_scale, yp_scale, y_at_err, yp_at_err, y, yp, ypp, jerk, dt):
     the largest estimated local errors of y and y' (max norm over components
-    and steps, see ``ERR_Y``), the knot where that of y is largest and the
+    and steps, see ``step.local_errors``), the knot where that of y is largest and the
     state there, the largest |y| and |y'| met, and the state, second and
     third derivative and step size at the last knot reached.
     """
@@ -90,7 +90,7 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0,
     ypp = np.zeros(m)        # 2 c_i
     jerk = np.zeros(m)       # 6 d on the last interval
     z = np.empty(m)          # the unknown y''_{i+1} = 2 c_{i+1}
-    lu, piv, info = newton_state(m, np.max(slots) + 1)  # kept Newton matrices
+    work, lu, piv, info = step_state(m, np.max(slots) + 1)  # buffers, kept Newton matrices
     composed = weights.shape[0] > 1
     y_new = np.empty(m)
     yp_new = np.empty(m)
@@ -156,9 +156,14 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0,
         else:
             t_new = tf
         dt = t_new - t
-        status, fe, je, it = composed_step(fun, args, jac, t, dt, weights, slots, y, yp, ypp, z,
-                                           y_new, yp_new, mode, n_iter, until_converged, tol,
-                                           reuse, lu, piv, info)
+        if composed:   # a separate call: the one-step case stays inlined and small
+            status, fe, je, it = composed_step(fun, args, jac, t, dt, weights, slots, y, yp,
+                                               ypp, z, y_new, yp_new, mode, n_iter,
+                                               until_converged, tol, reuse, work, lu, piv, info)
+        else:
+            status, fe, je, it = spline_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new,
+                                             yp_new, mode, n_iter, until_converged, tol, reuse,
+                                             work, lu, piv, info, 0)
         nfev += fe
         njev += je
         niter += it
@@ -189,9 +194,9 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0,
         for k in range(m):
             new_jerk = (z[k] - ypp[k]) / dt
             if have_jerk:
-                y4 = abs(new_jerk - jerk[k]) / abs(0.5 * (dt + dt_prev))
-                ey = max(ey, ERR_Y * (dt * dt) * (dt * dt) * y4)
-                eyp = max(eyp, ERR_YP * abs(dt * dt * dt) * y4)
+                est_y, est_yp = local_errors(new_jerk, jerk[k], dt, dt_prev)
+                ey = max(ey, est_y)
+                eyp = max(eyp, est_yp)
             jerk[k] = new_jerk
         if ey > err_y:
             err_y = ey

@@ -32,9 +32,11 @@ References
 
 import numpy as np
 from numba import njit
+from numba.extending import register_jitable
 
 from ._base import (BAD_SHAPE, DIVERGED, FD_STEP, NON_FINITE, NOT_CONVERGED, OK, SINGULAR,
                     as_vector, wrong_length)
+from .result import quintic_coefficients
 
 # The coefficients of the unknown z in the step, as multiples of dt^2 and dt,
 # and those of y'' at the start.
@@ -83,9 +85,10 @@ def lu_factor(a, piv):
 
 @njit(cache=True, error_model="numpy")
 def lu_solve(lu, piv, b):
-    """Solve with the factors of :func:`lu_factor`; returns a new vector."""
+    """Solve with the factors of :func:`lu_factor`, in place: ``b`` becomes
+    the solution (and is returned)."""
     m = b.shape[0]
-    x = b.copy()
+    x = b
     for col in range(m):
         p = piv[col]
         if p != col:
@@ -102,18 +105,23 @@ def lu_solve(lu, piv, b):
 
 @njit(cache=True, error_model="numpy")
 def solve_linear(a, b):
-    """Solve a x = b (``a`` is overwritten)."""
+    """Solve a x = b (``a`` is overwritten, ``b`` is not)."""
     piv = np.empty(b.shape[0], dtype=np.int64)
     lu_factor(a, piv)
-    return lu_solve(a, piv, b)
+    return lu_solve(a, piv, b.copy())
+
+
+# Rows of the work array a step uses (allocated once per run, not per step).
+_BASE_Y, _BASE_YP, _G, _RESIDUAL, _SUB_Y, _SUB_YP, _SUB_YPP = range(7)
 
 
 @njit(cache=True)
-def newton_state(m, slots):
-    """Storage for the kept Newton matrices, one per distinct sub-step of a
-    composition: LU factors (slots, m, m), pivots (slots, m) and, per slot,
-    [built?, the step it was built for]."""
-    return (np.zeros((slots, m, m)), np.zeros((slots, m), dtype=np.int64),
+def step_state(m, slots):
+    """What a driver allocates once for its steps: a work array (7, m) and
+    the kept Newton matrices, one per distinct sub-step of a composition:
+    LU factors (slots, m, m), pivots (slots, m) and, per slot, [built?, the
+    step it was built for]."""
+    return (np.empty((7, m)), np.zeros((slots, m, m)), np.zeros((slots, m), dtype=np.int64),
             np.zeros((slots, 2)))
 
 
@@ -159,9 +167,9 @@ def _build_matrix(fun, args, jac, t_new, dt, base_y, base_yp, z, g, y_new, yp_ne
     return nfev, njev
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def spline_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, mode, n_iter,
-                until_converged, tol, reuse, lu, piv, info):
+                until_converged, tol, reuse, work, lu, piv, info, slot):
     """One step from (y, y', y'') to t_new = t + dt.
 
     On return ``z`` holds y'' at t_new and ``y_new``, ``yp_new`` the value
@@ -169,164 +177,162 @@ def spline_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, mode, n
     NEWTON; ``n_iter`` iterations at most (exactly, when not
     ``until_converged``); converged when the change of the increments
     dt^2/6 |dz| and dt/2 |dz| is at most ``tol`` times the size of the
-    state (max norm).  ``lu``, ``piv``, ``info`` hold the kept Newton
-    matrix (see :func:`newton_state`), rebuilt at every iteration when not
-    ``reuse``.  A step that fails with a kept matrix is tried again from
-    the start with Newton's matrix rebuilt at every iteration, so reusing
-    the matrix never loses a step that full Newton would solve.
+    state (max norm).  ``work``, ``lu``, ``piv``, ``info`` come from
+    :func:`step_state`; the step keeps its Newton matrix in ``slot`` and
+    rebuilds it at every iteration when not ``reuse``.  A step that fails
+    with a kept matrix is tried again from the start with the matrix rebuilt
+    at every iteration, so reusing it never loses a step that full Newton
+    would solve.
+
+    Inlined into the drivers' loops (numba ``inline="always"``), with the
+    retry as a loop rather than a second call, and ``work`` rows and Newton
+    slots indexed in place: a function call, a second inlined copy or a
+    view per step each cost the uniform loop measurable time per
+    evaluation (``make bench``).
 
     Returns (status, nfev, njev, niter).
     """
-    status, nfev, njev, niter, fresh = _iterate(fun, args, jac, t_new, dt, y, yp, ypp, z,
-                                                y_new, yp_new, mode, n_iter, until_converged,
-                                                tol, reuse, lu, piv, info)
-    if status != OK and mode == NEWTON and reuse and not fresh:
-        info[0] = 0.0
-        status, fe, je, it, _ = _iterate(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new,
-                                         yp_new, mode, n_iter, until_converged, tol, False, lu,
-                                         piv, info)
-        nfev += fe
-        njev += je
-        niter += it
-    return status, nfev, njev, niter
-
-
-@njit(cache=True, error_model="numpy")
-def _iterate(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, mode, n_iter,
-             until_converged, tol, reuse, lu, piv, info):
-    """The iteration of :func:`spline_step`; also returns whether the
-    Newton matrix was built during it."""
     m = y.shape[0]
     wy = Y_WEIGHT * dt * dt
     wyp = YP_WEIGHT * dt
     w_max = max(wy, abs(wyp))
-    base_y = np.empty(m)
-    base_yp = np.empty(m)
-    for k in range(m):
-        base_y[k] = y[k] + dt * yp[k] + (Y_START * dt * dt) * ypp[k]
-        base_yp[k] = yp[k] + (YP_START * dt) * ypp[k]
-        z[k] = ypp[k]  # the report's initial guess d_i = 0
     nfev = 0
     njev = 0
     niter = 0
-    status = NOT_CONVERGED if until_converged else OK
-    if mode == NEWTON and info[0] != 0.0 and abs(dt - info[1]) > STEP_CHANGE * abs(info[1]):
-        info[0] = 0.0
-    fresh = False        # the matrix was built during this step
-    last_change = np.inf
-    for _ in range(n_iter):
-        size = 0.0
+    status = OK
+    kept = reuse
+    for attempt in range(2):
         for k in range(m):
-            y_new[k] = base_y[k] + wy * z[k]
-            yp_new[k] = base_yp[k] + wyp * z[k]
-            size = max(size, abs(y_new[k]), abs(yp_new[k]))
-        if not size < np.inf:
-            # A diverging sweep overflows; an infinite size would pass the
-            # relative convergence test below.
-            status = DIVERGED
-            break
-        g = as_vector(fun(t_new, y_new, yp_new, *args))
-        nfev += 1
-        if wrong_length(g, m):
-            status = BAD_SHAPE
-            break
-        for k in range(m):
-            if not abs(g[k]) < np.inf:
-                status = NON_FINITE
-        if status == NON_FINITE:
-            break
-        change = 0.0
-        if mode == FIXED_POINT:
-            # Sweep: eq. 9 gives the new c_{i+1} = z / 2 (eq. 8 then d_i).
+            work[_BASE_Y, k] = y[k] + dt * yp[k] + (Y_START * dt * dt) * ypp[k]
+            work[_BASE_YP, k] = yp[k] + (YP_START * dt) * ypp[k]
+            z[k] = ypp[k]  # the report's initial guess d_i = 0
+        status = NOT_CONVERGED if until_converged else OK
+        if (mode == NEWTON and info[slot, 0] != 0.0
+                and abs(dt - info[slot, 1]) > STEP_CHANGE * abs(info[slot, 1])):
+            info[slot, 0] = 0.0
+        fresh = False        # the matrix was built during this step
+        last_change = np.inf
+        for _ in range(n_iter):
+            size = 0.0
             for k in range(m):
-                change = max(change, abs(g[k] - z[k]))
-                z[k] = g[k]
-        else:
-            # Newton on R(z) = z - F(t, y_new(z), y'_new(z)) = 0.
-            if info[0] == 0.0:
-                gcopy = np.empty(m)
+                y_new[k] = work[_BASE_Y, k] + wy * z[k]
+                yp_new[k] = work[_BASE_YP, k] + wyp * z[k]
+                size = max(size, abs(y_new[k]), abs(yp_new[k]))
+            if not size < np.inf:
+                # A diverging sweep overflows; an infinite size would pass the
+                # relative convergence test below.
+                status = DIVERGED
+                break
+            g = as_vector(fun(t_new, y_new, yp_new, *args))
+            nfev += 1
+            if wrong_length(g, m):
+                status = BAD_SHAPE
+                break
+            for k in range(m):
+                if not abs(g[k]) < np.inf:
+                    status = NON_FINITE
+            if status == NON_FINITE:
+                break
+            change = 0.0
+            if mode == FIXED_POINT:
+                # Sweep: eq. 9 gives the new c_{i+1} = z / 2 (eq. 8 then d_i).
                 for k in range(m):
-                    gcopy[k] = g[k]
-                fe, je = _build_matrix(fun, args, jac, t_new, dt, base_y, base_yp, z, gcopy,
-                                       y_new, yp_new, lu, piv, info)
-                nfev += fe
-                njev += je
-                fresh = True
-            residual = np.empty(m)
+                    change = max(change, abs(g[k] - z[k]))
+                    z[k] = g[k]
+            else:
+                # Newton on R(z) = z - F(t, y_new(z), y'_new(z)) = 0.
+                if info[slot, 0] == 0.0:
+                    for k in range(m):
+                        work[_G, k] = g[k]
+                    fe, je = _build_matrix(fun, args, jac, t_new, dt, work[_BASE_Y],
+                                           work[_BASE_YP], z, work[_G], y_new, yp_new, lu[slot],
+                                           piv[slot], info[slot])
+                    nfev += fe
+                    njev += je
+                    fresh = True
+                dz = work[_RESIDUAL]
+                for k in range(m):
+                    dz[k] = g[k] - z[k]
+                lu_solve(lu[slot], piv[slot], dz)
+                bad = False
+                for k in range(m):
+                    if not abs(dz[k]) < np.inf:
+                        bad = True
+                if bad:
+                    if fresh:
+                        status = SINGULAR
+                        break
+                    info[slot, 0] = 0.0  # a kept matrix failed: rebuild it next iteration
+                    niter += 1
+                    continue
+                for k in range(m):
+                    change = max(change, abs(dz[k]))
+                    z[k] += dz[k]
+                if not kept or (change > SLOW_RATE * last_change and not fresh):
+                    info[slot, 0] = 0.0
+                last_change = change
+            niter += 1
+            if until_converged and w_max * change <= tol * size:
+                status = OK
+                break
+        if status == OK:
             for k in range(m):
-                residual[k] = g[k] - z[k]
-            dz = lu_solve(lu, piv, residual)
-            bad = False
-            for k in range(m):
-                if not abs(dz[k]) < np.inf:
-                    bad = True
-            if bad:
-                if fresh:
-                    status = SINGULAR
-                    break
-                info[0] = 0.0  # a kept matrix failed: rebuild it at the next iteration
-                niter += 1
-                continue
-            for k in range(m):
-                change = max(change, abs(dz[k]))
-                z[k] += dz[k]
-            if not reuse or (change > SLOW_RATE * last_change and not fresh):
-                info[0] = 0.0
-            last_change = change
-        niter += 1
-        if until_converged and w_max * change <= tol * size:
-            status = OK
+                y_new[k] = work[_BASE_Y, k] + wy * z[k]
+                yp_new[k] = work[_BASE_YP, k] + wyp * z[k]
+                if not (abs(y_new[k]) < np.inf and abs(yp_new[k]) < np.inf):
+                    status = NON_FINITE
+        if status != OK and mode == NEWTON:
+            info[slot, 0] = 0.0
+        if status == OK or mode != NEWTON or not kept or fresh:
             break
-    if status == OK:
-        for k in range(m):
-            y_new[k] = base_y[k] + wy * z[k]
-            yp_new[k] = base_yp[k] + wyp * z[k]
-            if not (abs(y_new[k]) < np.inf and abs(yp_new[k]) < np.inf):
-                status = NON_FINITE
-    if status != OK and mode == NEWTON:
-        info[0] = 0.0
-    return status, nfev, njev, niter, fresh
+        kept = False   # the kept matrix failed this step: redo it with full Newton
+    return status, nfev, njev, niter
 
 
 @njit(cache=True, error_model="numpy")
 def composed_step(fun, args, jac, t, dt, weights, slots, y, yp, ypp, z, y_new, yp_new, mode,
-                  n_iter, until_converged, tol, reuse, lu, piv, info):
+                  n_iter, until_converged, tol, reuse, work, lu, piv, info):
     """The step from t to t + dt as spline steps of sizes weights[j] dt in
     turn (weights summing to 1; a single weight 1 is one spline step).
-    Sub-step j keeps its Newton matrix in slot ``slots[j]`` of ``lu``,
-    ``piv``, ``info``.  Returns what :func:`spline_step` returns, summed;
-    on success ``y_new``, ``yp_new``, ``z`` hold the state at t + dt."""
+    Sub-step j keeps its Newton matrix in slot ``slots[j]``.  Returns what
+    :func:`spline_step` returns, summed; on success ``y_new``, ``yp_new``,
+    ``z`` hold the state at t + dt."""
     s = weights.shape[0]
-    if s == 1:
-        return spline_step(fun, args, jac, t + dt, dt, y, yp, ypp, z, y_new, yp_new, mode,
-                           n_iter, until_converged, tol, reuse, lu[0], piv[0], info[0])
-    sub_y = y.copy()
-    sub_yp = yp.copy()
-    sub_ypp = ypp.copy()
     nfev = 0
     njev = 0
     niter = 0
     status = OK
     t_sub = t
+    start_y, start_yp, start_ypp = y, yp, ypp
     for j in range(s):
-        d = weights[j] * dt
-        t_next = t + dt if j == s - 1 else t_sub + d
-        slot = slots[j]
-        status, fe, je, it = spline_step(fun, args, jac, t_next, t_next - t_sub, sub_y, sub_yp,
-                                         sub_ypp, z, y_new, yp_new, mode, n_iter,
-                                         until_converged, tol, reuse, lu[slot], piv[slot],
-                                         info[slot])
+        t_next = t + dt if j == s - 1 else t_sub + weights[j] * dt
+        if j > 0:   # later sub-steps start where the one before ended
+            start_y, start_yp, start_ypp = work[_SUB_Y], work[_SUB_YP], work[_SUB_YPP]
+            for k in range(y.shape[0]):
+                start_y[k] = y_new[k]
+                start_yp[k] = yp_new[k]
+                start_ypp[k] = z[k]
+        status, fe, je, it = spline_step(fun, args, jac, t_next, t_next - t_sub, start_y,
+                                         start_yp, start_ypp, z, y_new, yp_new, mode, n_iter,
+                                         until_converged, tol, reuse, work, lu, piv, info,
+                                         slots[j])
         nfev += fe
         njev += je
         niter += it
         if status != OK:
             break
-        for k in range(y.shape[0]):
-            sub_y[k] = y_new[k]
-            sub_yp[k] = yp_new[k]
-            sub_ypp[k] = z[k]
         t_sub = t_next
     return status, nfev, njev, niter
+
+
+@register_jitable
+def local_errors(jerk_new, jerk_old, dt, dt_prev):
+    """The estimated local errors (of y, of y') of a step of size ``dt``
+    whose third derivative is ``jerk_new``, after one of size ``dt_prev``
+    with ``jerk_old``: the jump estimates the fourth derivative (see
+    ERR_Y).  Numbers in compiled code, arrays (broadcast) in Python."""
+    y4 = abs(jerk_new - jerk_old) / abs(0.5 * (dt + dt_prev))
+    return ERR_Y * (dt * dt) * (dt * dt) * y4, ERR_YP * abs(dt * dt * dt) * y4
 
 
 @njit(cache=True)
@@ -334,14 +340,7 @@ def quintic(s, dt, p0, v0, a0, p1, v1, a1):
     """Value, first and second derivative at t + s of the quintic with
     value, slope and second derivative (p0, v0, a0) at t and (p1, v1, a1)
     at t + dt (Hermite interpolation, error O(dt^6))."""
-    # What the quadratic Taylor part leaves at t + dt, in value, slope and
-    # second derivative; the s^3, s^4, s^5 coefficients solve a 3 x 3 system.
-    rp = p1 - p0 - dt * (v0 + 0.5 * dt * a0)
-    rv = (v1 - v0 - dt * a0) * dt
-    ra = (a1 - a0) * dt * dt
-    c3 = (10.0 * rp - 4.0 * rv + 0.5 * ra) / dt ** 3
-    c4 = (-15.0 * rp + 7.0 * rv - ra) / dt ** 4
-    c5 = (6.0 * rp - 3.0 * rv + 0.5 * ra) / dt ** 5
+    c3, c4, c5 = quintic_coefficients(dt, p0, v0, a0, p1, v1, a1)
     value = p0 + s * (v0 + s * (0.5 * a0 + s * (c3 + s * (c4 + s * c5))))
     slope = v0 + s * (a0 + s * (3.0 * c3 + s * (4.0 * c4 + s * 5.0 * c5)))
     curvature = a0 + s * (6.0 * c3 + s * (12.0 * c4 + s * 20.0 * c5))

@@ -57,23 +57,18 @@ class Problem:
         at step ``h`` (default: the report's step; "adaptive": the spline
         stepper's adaptive knots, with ``rtol`` and ``atol``); further
         keywords go to the solver."""
-        if isinstance(h, str):
-            if h != "adaptive" or method != "spline":
-                raise ValueError(f'h must be a number, None or "adaptive" (spline only), '
-                                 f"got {h!r}")
-            from .. import solve
-            if kwargs.get("iteration") == "newton" and "jac" not in kwargs:
-                kwargs["jac"] = self.jac
-            return solve(self.fun, self.t_span, self.y0, self.yp0, args=self.args, **kwargs)
         from .. import rk4, solve, verlet
         solvers = {"spline": solve, "rk4": rk4, "verlet": verlet}
         if method not in solvers:
             raise ValueError(f"method must be one of {tuple(solvers)}, got {method!r}")
+        if isinstance(h, str) and (h != "adaptive" or method != "spline"):
+            raise ValueError(f'h must be a number, None or "adaptive" (spline only), got {h!r}')
         if (method == "spline" and kwargs.get("iteration") in ("newton", "global")
                 and "jac" not in kwargs):
             kwargs["jac"] = self.jac
-        return solvers[method](self.fun, self.t_span, self.y0, self.yp0,
-                               self.h if h is None else h, args=self.args, **kwargs)
+        step = None if isinstance(h, str) else self.h if h is None else h
+        return solvers[method](self.fun, self.t_span, self.y0, self.yp0, step,
+                               args=self.args, **kwargs)
 
     @property
     def reference_kind(self):
