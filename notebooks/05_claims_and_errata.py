@@ -11,6 +11,7 @@ import sys
 
 import numpy as np
 import pandas as pd
+from IPython.display import HTML, display
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
@@ -47,6 +48,14 @@ def evaluations(method, target):
     return f"more than {int(row.most_tested)} (its most tested give {sci(row.error_at_most)})"
 
 
+def show_table(frame):
+    """A table as JupyterLab shows it: left-aligned text that wraps at word breaks."""
+    cells = {"text-align": "left", "vertical-align": "top", "white-space": "normal"}
+    styled = (frame.style.hide(axis="index").set_uuid("table").set_properties(**cells)
+              .set_table_styles([dict(selector="th", props=list(cells.items()))]))
+    display(HTML(styled.to_html()))
+
+
 claims = []
 
 
@@ -72,15 +81,17 @@ claim("Sec. 5, Fig. 2a", "the errors do not exceed 1e-3 (cannonball)",
       f"energy error <= {sci(spline.energy_error.max())}, angular-momentum error <= "
       f"{sci(spline.momentum_error.max())}; but the position error reaches "
       f"{sci(spline.position_error.max())} (mu = 0.6), above 1e-3 from t = {crossing:.2f} on "
-      f"(stored every 0.05)",
+      f"(errors sampled every 0.05 time units)",
       "partly reproduced: holds for the invariants, not for the solution")
 claim("Sec. 5, Fig. 2b", "the errors do not exceed 1e-3; rigid body: the method performs quite "
       "well, with a nominal tolerance",
-      f"consistent rates: energy error {sci(drift.loc['spline', 'energy_error_t80'])} at "
+      f"started with the rates Euler's equations give: energy error "
+      f"{sci(drift.loc['spline', 'energy_error_t80'])} at "
       f"t = 80, growing linearly ({sci(drift.loc['spline', 'energy_error_t800'])} at t = 800, "
       f"growth ratio {drift.loc['spline', 'growth_ratio']:.1f} over eight parts of the run); "
       f"angular-velocity error {sci(rigid.loc['consistent', 'solution_error_spline'])}. "
-      f"Printed rates: the energy varies by {sci(rigid.loc['printed', 'energy_change_spline'])}, "
+      f"Started with the report's printed rates (d omega/dt = 0): the energy varies by "
+      f"{sci(rigid.loc['printed', 'energy_change_spline'])}, "
       f"as along a DOP853 solution of the same equations "
       f"({sci(rigid.loc['printed', 'energy_change_reference'])})",
       "reproduced for the report's run; the energy error is not bounded (this second-order "
@@ -119,16 +130,22 @@ claim("Sec. 4", "comparison with RK4 at the same step",
       f"RK4 slopes {rk4_slopes.min():.2f} to {rk4_slopes.max():.2f}",
       "reproduced (the report gives no numbers): RK4 is more accurate on every measure")
 spline_rho = np.max(np.abs(phase.amplitude_factor_spline - 1))
+rk4_stable = phase[phase.omega_h < 2 * np.sqrt(2)].amplitude_factor_rk4
+rk4_unstable = phase[phase.omega_h > 2 * np.sqrt(2)].amplitude_factor_rk4
 claim("Sec. 5", "the method is stable (inferred from its convergence)",
       f"convergent at order 2 (slopes above), i.e. zero-stable as h -> 0. Linear stability "
-      f"is conditional: on y'' = -omega^2 y the amplification factor is 1 "
+      f"is conditional: on y'' = -omega^2 y the spline's amplification factor is 1 (no damping) "
       f"{'to within 1e-12' if spline_rho < 1e-12 else f'to {sci(spline_rho)}'} for omega h up to "
-      f"{phase.omega_h.max():.2f} (limit sqrt(12) = {np.sqrt(12):.2f}), as RK4's is "
-      f"(measured factor {phase.amplitude_factor_rk4.min():.3f} to "
-      f"{phase.amplitude_factor_rk4.max():.2f}, limit 2 sqrt(2) = {2 * np.sqrt(2):.2f}); the "
-      f"fixed-point sweep needs omega h < sqrt(6) = {np.sqrt(6):.2f}",
+      f"{phase.omega_h.max():.2f}, below its limit sqrt(12) = {np.sqrt(12):.2f}. RK4's factor is "
+      f"below 1 for every omega h below its limit 2 sqrt(2) = {2 * np.sqrt(2):.2f} (it damps, "
+      f"down to {rk4_stable.min():.3f} at omega h = "
+      f"{phase.omega_h[rk4_stable.idxmin()]:.2f}; 1 - {sci(1 - rk4_stable.max())} at omega h = "
+      f"{phase.omega_h.min():.2f}) and above 1 "
+      f"beyond it (up to "
+      f"{rk4_unstable.max():.2f}). The fixed-point sweep needs omega h < sqrt(6) = "
+      f"{np.sqrt(6):.2f}",
       "reproduced in the report's sense (convergence); linear stability is conditional, "
-      "as for RK4")
+      "as for RK4, and without RK4's damping")
 one_sweep_best = reach.loc[("spline (1 sweep)", 1e-6)]
 claim("Sec. 6", "reaches desired tolerance levels; needs improvement to be a viable solver",
       f"evaluations for a max error of 1e-3 on the ellipse (interpolated on the "
@@ -265,8 +282,7 @@ claim("(none)", "boundary value problems",
       "exists")
 claims = pd.DataFrame(claims)
 outputs.save_data(claims, "claims")
-for row in claims.itertuples():
-    print(f"[{row.where}] {row.claim}\n    measured: {row.measured}\n    verdict: {row.verdict}")
+show_table(claims)
 
 # %% [markdown]
 # The few numbers the paper (`paper/splinestep.typ`) states in its prose, each
@@ -301,7 +317,9 @@ print(headline.to_string(index=False))
 # evidence computed here or in the notebook named.  The first item
 # measures what eq. 9 as printed would compute: setting $c_{i+1} = F$
 # makes the spline's second derivative $2c = 2F$, i.e. it solves
-# $y'' = 2F$.
+# $y'' = 2F$.  The report's eqs. 16-18 were checked too: they agree with
+# the derivative of Euler's equations (`tests/test_problems.py`), so they
+# are not in the table.
 
 # %%
 oscillator = problems.harmonic(1.0, t_span=(0.0, 20.0), h=0.01)
@@ -327,7 +345,8 @@ errata = pd.DataFrame([
     ("Sec. 3.1", "the cannonball's initial values are not printed",
      "x(0) = (1, 0), x'(0) = (0, 1) reproduces the four named orbit types (energy 1/2 - mu)"),
     ("Sec. 3.2", "d omega/dt(0) = 0 contradicts Euler's equations",
-     f"they give {np.array2string(body.yp0, precision=6)}; with the printed rates the energy "
+     f"they give d omega/dt(0) = ({', '.join(f'{v:.2e}' for v in body.yp0)}); with the "
+     f"printed rates the energy "
      f"of eq. 19 varies by {sci(rigid.loc['printed', 'energy_change_reference'])} along a "
      "DOP853 solution (rtol 1e-13) of the printed equations"),
     ("Sec. 2", "the number of fixed-point sweeps ('a few times') is unspecified",
@@ -340,8 +359,6 @@ errata = pd.DataFrame([
      "the same steps hold for y'' = F(t, y, y'); the implicit equation is then nonlinear"),
     ("Sec. 3.1", "omega^2 'describes the gravitational constant'",
      "omega^2 = mu / r^3 varies along the orbit; mu is the gravitational parameter"),
-    ("eqs. 16-18", "audited", "consistent with the derivative of Euler's equations (no erratum)"),
 ], columns=["where", "erratum", "evidence"])
 outputs.save_data(errata, "errata")
-for row in errata.itertuples():
-    print(f"[{row.where}] {row.erratum}\n    evidence: {row.evidence}")
+show_table(errata)
