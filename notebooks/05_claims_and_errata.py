@@ -302,6 +302,7 @@ headline = [
     ("energy growth exponent, RK4 same work", long_drift.loc["RK4, same work", "energy_exponent"],
      f"{long_drift.loc['RK4, same work', 'energy_exponent']:.2f}"),
     ("adaptive gain, one sweep", gain_one[0], outputs.span(gain_one)),
+    ("adaptive gain, iterated", gain_iter[0], outputs.span(gain_iter)),
     ("order 4 error, ellipse, dt = 0.01", ellipse_4, sci(ellipse_4)),
     ("Verlet at equal work, smallest factor", equal_work[0], f"{equal_work[0]:.1f}"),
     ("Verlet at equal work, largest factor", equal_work[1], f"{equal_work[1]:.1f}"),
