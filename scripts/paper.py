@@ -9,6 +9,7 @@ same sources give the same bytes on any machine.
 """
 
 import platform
+import re
 import sys
 import time
 from pathlib import Path
@@ -19,6 +20,8 @@ ROOT = Path(__file__).resolve().parents[1]
 SOURCE = ROOT / "paper" / "splinestep.typ"
 PDF = ROOT / "paper" / "splinestep.pdf"
 MACHINE = ROOT / "data" / "machine.txt"
+FIGURE_SOURCES = ROOT / "paper" / "figure-sources.csv"
+SAVED_FIGURE = re.compile(r"save_figure\(\s*\w+,\s*\"([^\"]+)\"")
 
 
 def machine_description():
@@ -39,6 +42,16 @@ def machine_description():
             f"{scipy.__version__}, numba {numba.__version__}\n")
 
 
+def figure_sources(root=ROOT):
+    """Which notebook writes which figure: the ``save_figure(fig, "NAME")``
+    calls of each notebook, as CSV text (figure,notebook), in notebook order."""
+    lines = ["figure,notebook"]
+    for script in sorted((Path(root) / "notebooks").glob("[0-9][0-9]_*.py")):
+        for name in SAVED_FIGURE.findall(script.read_text()):
+            lines.append(f"{name},notebooks/{script.stem}.ipynb")
+    return "\n".join(lines) + "\n"
+
+
 def build(output=PDF, root=ROOT):
     """Compile the paper of the repository at ``root`` into ``output``;
     returns the seconds it took."""
@@ -55,6 +68,7 @@ def query(selector):
 
 if __name__ == "__main__":
     target = Path(sys.argv[1]) if len(sys.argv) > 1 else PDF
+    FIGURE_SOURCES.write_text(figure_sources())
     if "--machine" in sys.argv:
         MACHINE.write_text(machine_description())
         target = PDF

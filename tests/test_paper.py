@@ -55,3 +55,21 @@ def test_the_paper_reads_its_numbers_from_data(tmp_path, built):
     headline.to_csv(tmp_path / "data" / "headline-numbers.csv", index=False)
     paper.build(tmp_path / "changed.pdf", root=tmp_path)
     assert (tmp_path / "changed.pdf").read_bytes() != built[0].read_bytes()
+
+
+def test_every_figure_is_cited_in_the_text():
+    """Each figure is referred to (@fig-NAME) where the text discusses it; the
+    table of figure sources names figures by number, not by reference."""
+    cited = {ref["target"] for ref in json.loads(paper.query("ref"))}
+    figures = {f"<fig-{path.stem}>" for path in (ROOT / "figures").glob("*.pdf")}
+    assert figures <= cited, f"figures never cited: {sorted(figures - cited)}"
+
+
+def test_the_figure_sources_are_the_notebooks_that_write_them():
+    """paper/figure-sources.csv (the paper's reproduction table) is what the
+    notebooks' save_figure calls say, and names every figure once."""
+    committed = (ROOT / "paper" / "figure-sources.csv").read_text()
+    assert committed == paper.figure_sources(), "run make paper"
+    names = pd.read_csv(ROOT / "paper" / "figure-sources.csv").figure
+    assert sorted(names) == sorted(path.stem for path in (ROOT / "figures").glob("*.pdf"))
+    assert names.is_unique
