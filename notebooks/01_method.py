@@ -66,7 +66,7 @@ outputs.say(
 # single sweep" with Newton's method and an LU decomposition, one solve over
 # all knots at once.
 #
-# ## Stability and phase error on $y'' = -\omega^2 y$
+# ## Stability and period error on $y'' = -\omega^2 y$
 # For the oscillator, one step maps $(y_i, y'_i)$ by a fixed matrix whose
 # eigenvalues $\rho\, e^{\pm i\Omega h}$ satisfy
 #
@@ -75,9 +75,8 @@ outputs.say(
 # for $x \le \sqrt{12}$; beyond, the eigenvalues are real and one exceeds 1.
 # So below the limit the method neither damps nor amplifies, and it lags
 # in phase: each step turns the solution by $\Omega h$ instead of
-# $\omega h$, a relative phase error per step
-# $1 - \Omega h/(\omega h) = x^2/24 + O(x^4)$; equivalently its period is
-# longer than the true one, $T_h / T - 1 = x^2/24 + O(x^4)$.
+# $\omega h$, so that its period $T_h = 2\pi h/(\Omega h)$ is longer than the
+# true one, $T$: the period error is $T_h / T - 1 = x/(\Omega h) - 1 = x^2/24 + O(x^4)$.
 # RK4 on the same problem has $\rho = |R(ix)| = \sqrt{1 - x^6/72 + x^8/576}$:
 # it damps for $x < 2\sqrt 2$ and amplifies beyond.
 #
@@ -123,15 +122,15 @@ outputs.say(
     f"collected here instead of printed.")
 
 fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 6.2), sharex=True)
-# The relative phase error per step, (omega h - Omega h) / (omega h) = 1 - T / T_h
-ax.loglog(phase.omega_h, 1 - 1 / phase.period_ratio_measured, "o", markersize=5, color="C0",
+# The period error T_h / T - 1 = omega h / (Omega h) - 1
+ax.loglog(phase.omega_h, phase.period_ratio_measured - 1, "o", markersize=5, color="C0",
           label="cubic spline, measured")
-ax.loglog(phase.omega_h, 1 - 1 / phase.period_ratio_theory, "-", color="k", linewidth=1,
+ax.loglog(phase.omega_h, phase.period_ratio_theory - 1, "-", color="k", linewidth=1,
           label="closed form ($\\beta = 1/6$)")
 ax.loglog(phase.omega_h, phase.omega_h ** 2 / 24, "--", color="0.5",
           label="leading term $(\\omega h)^2/24$")
-ax.set_ylabel("phase error per step\n$1 - \\Omega h / (\\omega h)$")
-ax.set_title("Cubic spline on $y'' = -\\omega^2 y$: phase error per step", loc="left")
+ax.set_ylabel("period error\n$T_h / T - 1 = \\omega h / (\\Omega h) - 1$")
+ax.set_title("Cubic spline on $y'' = -\\omega^2 y$: period error", loc="left")
 ax.axvline(np.sqrt(6), color="0.5", linestyle=":", linewidth=1.5)
 ax.axvline(np.sqrt(12), color="C0", linestyle=":", linewidth=1.5)
 ax.text(np.sqrt(6) * 0.97, 2e-4, "fixed-point\nsweep limit $\\sqrt{6}$", ha="right",
@@ -162,7 +161,7 @@ bx.legend(loc="upper left")
 outputs.save_figure(fig, "method-phase-error")
 
 # %% [markdown]
-# The measured phase errors follow the closed form to rounding error, the
+# The measured periods follow the closed form to rounding error, the
 # spline's amplitude factor is 1 up to the stability limit, and the same
 # metric finds RK4's damping (below $2\sqrt2 \approx 2.83$) and growth
 # (above) where its closed form puts them.  This explains what the report

@@ -146,7 +146,7 @@ for row, (column, label) in zip(axes, columns.items()):
     row[0].set_ylabel(label)
     if values.max() > 1e-3:
         for ax in row:
-            ax.axhline(1e-3, color="k", linewidth=1.2, linestyle="-.")
+            ax.axhline(1e-3, color="k", linewidth=1.2, linestyle="--")
         row[1].text(49, 1.4e-3, "report's bound $10^{-3}$", ha="right", va="bottom",
                     fontsize=outputs.MIN_FONT)
 axes[0, 0].set_title("cubic spline")
@@ -285,7 +285,11 @@ for name, (exact_ratio, tolerance) in closed.items():
     print(f"{name}: sampled {value[name]:.3f}, closed form {exact_ratio:.3f}")
     assert abs(value[name] / exact_ratio - 1) < tolerance, name
 
-fig, axes = plt.subplots(2, 1, figsize=(outputs.WIDTH, 6.0), sharex=True)
+fig, (ax_r, *axes) = plt.subplots(3, 1, figsize=(outputs.WIDTH, 6.5), sharex=True,
+                                  gridspec_kw=dict(height_ratios=[1, 2, 2]))
+ax_r.plot(res.t[one], r[one], color="k")
+ax_r.set_ylabel("distance $r$")
+ax_r.set_yticks([1, 3, 5])
 quantities = (("path curvature $\\kappa$", curvature, "C1", "-"),
               ("acceleration $|\\mathbf{x}''| = \\mu / r^2$", x2, "C4", "--"),
               ("$|\\mathbf{x}''''|$, which sets the local error", x4, "C2", "-."))
@@ -296,14 +300,14 @@ axes[0].set_ylabel("value / its value\nat apoapsis")
 axes[1].semilogy(middle[first], rate[first], color="C0", label="spline's energy-error rate")
 axes[1].set_ylabel("energy-error rate\n$|\\Delta H_{\\rm err}| / \\Delta t$")
 axes[1].set_xlabel("time $t$ (one orbit of the ellipse, $\\mu = 0.6$)")
-for ax in axes:
+for ax in (ax_r, *axes):
     for arc, shade in ((r < 1.5, "C3"), (r > 4.5, "0.5")):
         edges = np.flatnonzero(np.diff(np.r_[0, (arc & one).astype(int), 0]))
         for start, stop in zip(edges[::2], edges[1::2]):
             ax.axvspan(res.t[start], res.t[stop - 1], color=shade, alpha=0.15, linewidth=0)
 axes[1].text(2.5, 3e-13, "$r < 1.5$", fontsize=outputs.MIN_FONT)
 axes[1].text(period / 2, 1e-6, "$r > 4.5$", ha="center", fontsize=outputs.MIN_FONT)
-axes[0].set_title(f"periapsis ($r = {r_peri:.0f}$) at both ends, apoapsis ($r = {r_apo:.0f}$) "
+ax_r.set_title(f"periapsis ($r = {r_peri:.0f}$) at both ends, apoapsis ($r = {r_apo:.0f}$) "
                   f"in the middle", fontsize=outputs.MIN_FONT + 0.5)
 fig.legend(loc="outside upper center", ncol=2, handlelength=2.4, frameon=False,
            title="Spline on the ellipse: where the energy error changes", title_fontsize=12)
