@@ -66,15 +66,17 @@ outputs.say(
 # single sweep" with Newton's method and an LU decomposition, one solve over
 # all knots at once.
 #
-# ## Stability and phase error on $y'' = -\omega^2 y$
+# ## Stability and period error on $y'' = -\omega^2 y$
 # For the oscillator, one step maps $(y_i, y'_i)$ by a fixed matrix whose
 # eigenvalues $\rho\, e^{\pm i\Omega h}$ satisfy
 #
 # $$\rho = 1, \qquad \cos\Omega h = 1 - \frac{x^2}{2 + x^2/3}, \qquad x = \omega h,$$
 #
 # for $x \le \sqrt{12}$; beyond, the eigenvalues are real and one exceeds 1.
-# So below the limit the method neither damps nor amplifies, and its
-# period is longer than the true one: $T_h / T - 1 = x^2/24 + O(x^4)$.
+# So below the limit the method neither damps nor amplifies, and it lags
+# in phase: each step turns the solution by $\Omega h$ instead of
+# $\omega h$, so that its period $T_h = 2\pi h/(\Omega h)$ is longer than the
+# true one, $T$: the period error is $T_h / T - 1 = x/(\Omega h) - 1 = x^2/24 + O(x^4)$.
 # RK4 on the same problem has $\rho = |R(ix)| = \sqrt{1 - x^6/72 + x^8/576}$:
 # it damps for $x < 2\sqrt 2$ and amplifies beyond.
 #
@@ -119,29 +121,43 @@ outputs.say(
     f"and the run warns that the step is too large for the solution; the warnings are "
     f"collected here instead of printed.")
 
-fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 6.6), sharex=True)
-ax.loglog(phase.omega_h, phase.period_ratio_measured - 1, "o", markersize=5,
-          label="measured, cubic spline")
-ax.loglog(phase.omega_h, phase.period_ratio_theory - 1, "-", label="closed form ($\\beta = 1/6$)")
-ax.loglog(phase.omega_h, phase.omega_h ** 2 / 24, "--", label="leading term $(\\omega h)^2/24$")
-ax.set_ylabel("period error $T_h / T - 1$")
-ax.set_title("Cubic spline on $y'' = -\\omega^2 y$: period and amplitude per step")
+fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 6.2), sharex=True)
+# The period error T_h / T - 1 = omega h / (Omega h) - 1
+ax.loglog(phase.omega_h, phase.period_ratio_measured - 1, "o", markersize=5, color="C0",
+          label="cubic spline, measured")
+ax.loglog(phase.omega_h, phase.period_ratio_theory - 1, "-", color="k", linewidth=1,
+          label="closed form ($\\beta = 1/6$)")
+ax.loglog(phase.omega_h, phase.omega_h ** 2 / 24, "--", color="0.5",
+          label="leading term $(\\omega h)^2/24$")
+ax.set_ylabel("period error\n$T_h / T - 1 = \\omega h / (\\Omega h) - 1$")
+ax.set_title("Cubic spline on $y'' = -\\omega^2 y$: period error", loc="left")
+ax.axvline(np.sqrt(6), color="0.5", linestyle=":", linewidth=1.5)
+ax.axvline(np.sqrt(12), color="C0", linestyle=":", linewidth=1.5)
+ax.text(np.sqrt(6) * 0.97, 2e-4, "fixed-point\nsweep limit $\\sqrt{6}$", ha="right",
+        fontsize=outputs.MIN_FONT)
+ax.text(np.sqrt(12) * 0.97, 3e-3, "spline\nstability\nlimit $\\sqrt{12}$", ha="right",
+        fontsize=outputs.MIN_FONT, color="C0")
+ax.legend(loc="upper left")
 bx.semilogx(phase.omega_h, phase.amplitude_factor_spline, "o", markersize=5, color="C0",
             label="cubic spline, measured")
 bx.semilogx(phase.omega_h, phase.amplitude_factor_rk4, "s", markersize=5, color="C3",
             label="RK4, measured")
 bx.semilogx(phase.omega_h, phase.amplitude_factor_rk4_theory, "-", color="C3", linewidth=1,
             label="RK4, $|R(i\\omega h)|$")
-bx.set_ylim(0.4, 1.6)
-bx.set_ylabel("amplitude factor per step $\\rho$")
+bx.set_yscale("log")
+bx.set_ylim(0.4, 5)
+bx.set_yticks([0.5, 1, 2, 4], ["0.5", "1", "2", "4"])
+bx.yaxis.set_minor_formatter(plt.NullFormatter())
+bx.set_ylabel("amplitude factor\nper step $\\rho$")
 bx.set_xlabel("$\\omega h$ (step times angular frequency)")
-for axis in (ax, bx):
-    axis.axvline(np.sqrt(6), color="grey", linestyle=":", linewidth=1.5)
-    axis.axvline(np.sqrt(12), color="k", linestyle=":", linewidth=1.5)
-ax.text(np.sqrt(6) * 0.97, 2e-4, "fixed-point\nsweep limit $\\sqrt{6}$", ha="right", fontsize=10)
-ax.text(np.sqrt(12) * 0.97, 2e-2, "stability\nlimit $\\sqrt{12}$", ha="right", fontsize=10)
-ax.legend(loc="upper left")
-bx.legend(loc="lower left")
+bx.set_title("Amplitude factor per step: the spline against RK4", loc="left")
+bx.axvline(2 * np.sqrt(2), color="C3", linestyle=":", linewidth=1.5)
+bx.axvline(np.sqrt(12), color="C0", linestyle=":", linewidth=1.5)
+bx.text(2 * np.sqrt(2) * 0.97, 1.9, "RK4 stability\nlimit $2\\sqrt{2}$", ha="right",
+        fontsize=outputs.MIN_FONT, color="C3")
+bx.text(np.sqrt(12) * 0.97, 3.6, "spline stability limit $\\sqrt{12}$", ha="right",
+        va="bottom", fontsize=outputs.MIN_FONT, color="C0")
+bx.legend(loc="upper left")
 outputs.save_figure(fig, "method-phase-error")
 
 # %% [markdown]

@@ -72,15 +72,18 @@ outputs.say(
 # %%
 from matplotlib.lines import Line2D  # noqa: E402
 
-fig, axes = plt.subplots(2, 1, figsize=(outputs.WIDTH, 8.4))
+# One colour per problem (the orbits' colours, black for the rigid body); marker and line
+# style per method, in both panels.
+COLORS = {name: outputs.MU_COLORS[problem.args[0]] if "mu" in name else "k"
+          for name, problem in cases.items()}
+MARKERS = {"spline": "o", "rk4": "s"}
+fig, axes = plt.subplots(1, 2, figsize=(outputs.WIDTH, 4.6), sharey=True)
 for ax, names in zip(axes, ([n for n in cases if n.startswith("cannonball")], ["rigid body"])):
     for name in names:
         for method in ("spline", "rk4"):
             sel = convergence[(convergence.problem == name) & (convergence.method == method)]
-            color = outputs.MU_COLORS[cases[name].args[0]] if "mu" in name else \
-                outputs.METHOD_STYLE[method]["color"]
-            ax.loglog(sel.dt, sel.max_error, marker="o" if method == "spline" else "s",
-                      markersize=5, color=color, linestyle=outputs.METHOD_STYLE[method]["linestyle"])
+            ax.loglog(sel.dt, sel.max_error, marker=MARKERS[method], markersize=4.5,
+                      color=COLORS[name], linestyle=outputs.METHOD_STYLE[method]["linestyle"])
     dt = STEPS[[0, -1]]
     for order, method in ((2, "spline"), (4, "rk4")):
         # each guide starts a decade above its method's largest error at the coarsest step
@@ -88,28 +91,29 @@ for ax, names in zip(axes, ([n for n in cases if n.startswith("cannonball")], ["
                                & (convergence.dt == dt[0])]
         anchor = 10 * coarsest.max_error.max()
         guide = anchor * (dt / dt[0]) ** order
-        ax.loglog(dt, guide, color="k", linewidth=1.0, linestyle=(0, (1, 1)))
+        ax.loglog(dt, guide, color="0.4", linewidth=1.0, linestyle=(0, (1, 1)))
         middle = np.sqrt(dt[0] * dt[-1])
         ax.text(middle, anchor * (middle / dt[0]) ** order * 1.5, f"slope {order}",
-                ha="right", va="bottom", fontsize=10)
+                ha="right", va="bottom", fontsize=outputs.MIN_FONT, color="0.3")
     ax.axhline(FLOOR, color="grey", linewidth=1)
-    ax.text(STEPS[0], FLOOR * 1.5, "fit floor $10^{-10}$", ha="right", va="bottom",
-            fontsize=10, color="grey")
-    ax.set_xlabel("step $\\Delta t$")
-    ax.set_ylabel("max error at the report times\n(vs exact solution)")
+    ax.text(STEPS[0], FLOOR / 1.5, "fit floor $10^{-10}$", ha="right", va="top",
+            fontsize=outputs.MIN_FONT, color="grey")
+    ax.set_xlabel("step $\\Delta t$ (time units)")
     ax.set_ylim(1e-14, 10)
-method_handles = [Line2D([], [], color="k", marker="o", linestyle="-", label="cubic spline"),
-                  Line2D([], [], color="k", marker="s", linestyle="--", label="RK4")]
-axes[0].legend(handles=[Line2D([], [], color=outputs.MU_COLORS[mu], label=f"$\\mu = {mu:g}$")
-                        for mu in problems.CANNONBALL_MU] + method_handles,
-               loc="lower right", ncol=2)
-axes[1].legend(handles=[Line2D([], [], color=outputs.METHOD_STYLE[m]["color"],
-                               marker="o" if m == "spline" else "s",
-                               linestyle=outputs.METHOD_STYLE[m]["linestyle"],
-                               label=outputs.METHOD_STYLE[m]["label"]) for m in ("spline", "rk4")],
-               loc="lower right")
-axes[0].set_title("Newton's cannonball, $t \\in [0, 50]$")
-axes[1].set_title("Rigid body (consistent rates), $t \\in [0, 80]$")
+axes[0].set_ylabel("largest error $|y_i(t_k) - y_i^{\\rm exact}(t_k)|$\n"
+                   "over the report times $t_k$ and components $i$")
+axes[0].set_title("Newton's cannonball ($y = \\mathbf{x}$), $t \\in [0, 50]$",
+                  fontsize=outputs.MIN_FONT + 0.5)
+axes[1].set_title("rigid body ($y = \\omega$), $t \\in [0, 80]$",
+                  fontsize=outputs.MIN_FONT + 0.5)
+key = [Line2D([], [], color=COLORS[name], linewidth=2,
+              label=f"$\\mu = {cases[name].args[0]:g}$" if "mu" in name else "rigid body")
+       for name in cases] + \
+      [Line2D([], [], color="0.4", marker=MARKERS[m], linestyle=outputs.METHOD_STYLE[m]["linestyle"],
+              label=outputs.METHOD_STYLE[m]["label"]) for m in ("spline", "rk4")]
+key = [key[k] for k in (0, 4, 1, 5, 2, 6, 3)]  # rows: the orbits; the rigid body, the methods
+fig.legend(handles=key, loc="outside upper center", ncol=4, frameon=False,
+           title="Convergence against the exact solutions", title_fontsize=12)
 outputs.save_figure(fig, "convergence")
 
 # %% [markdown]
@@ -153,7 +157,7 @@ for method in ("RK45", "DOP853"):
 work = pd.DataFrame(work)
 outputs.save_data(work, "work-precision")
 
-fig, ax = plt.subplots(figsize=(outputs.WIDTH, 4.8))
+fig, ax = plt.subplots(figsize=(outputs.WIDTH, 5.0))
 markers = {"spline (converged)": "o-", "spline (1 sweep)": "o--", "Verlet": "D-", "RK4": "s-",
            "scipy RK45": "^-", "scipy DOP853": "v-"}
 for method, style in markers.items():
@@ -161,9 +165,10 @@ for method, style in markers.items():
     ax.loglog(sel.nfev, sel.max_error, style, markersize=5, label=method)
 ax.axhline(1e-3, color="k", linewidth=1, linestyle="-.", label="report's bound $10^{-3}$")
 ax.set_xlabel("right-hand-side evaluations over $t \\in [0, 50]$")
-ax.set_ylabel("max position error\nvs exact orbit")
-ax.set_title("Work against precision, cannonball $\\mu = 0.6$ (ellipse)")
-ax.legend(loc="lower left")
+ax.set_ylabel("largest position error $|x_i(t_k) - x_i^{\\rm exact}(t_k)|$\n"
+              "over the report times $t_k$ and components $i$")
+fig.legend(loc="outside upper center", ncol=4, frameon=False, columnspacing=1.2,
+           title="Work against precision, cannonball $\\mu = 0.6$ (ellipse)", title_fontsize=12)
 outputs.save_figure(fig, "work-precision")
 
 # %%
