@@ -50,8 +50,11 @@ def pleiades_rhs(t, q, qp, masses):
 
 
 def pleiades():
-    """The Pleiades problem, 14 components, t in [0, 3] (h: the step of 1e-3
-    at which the uniform spline stepper succeeds)."""
+    """The Pleiades problem, 14 components, t in [0, 3].
+
+    The default step h = 1e-3 reaches t = 3 but is too large: the error
+    there is 0.38 and the run warns so.  Uniform steps of 1e-4 (error
+    3.6e-3) or adaptive knots (rtol 1e-8: 8.5e-4) give usable solutions."""
     return Problem(
         name="Pleiades (7 bodies)", fun=pleiades_rhs, args=(MASSES.copy(),),
         y0=np.concatenate([X0, Y0]), yp0=np.concatenate([XP0, YP0]), t_span=T_SPAN, h=1e-3,
