@@ -126,3 +126,10 @@ def span(pair, digits=2, decimals=None):
     else:
         lo, hi = (f"{v:.{decimals}f}" for v in pair)
     return f"about {lo}" if lo == hi else f"{lo} to {hi}"
+
+
+def signed(value, decimals=2):
+    """``value`` with an explicit sign and ``decimals`` decimals, never "-0.00":
+    a value that rounds to zero prints as "+0.00"."""
+    text = f"{value:+.{decimals}f}"
+    return text.replace("-", "+") if float(text) == 0 else text

@@ -96,13 +96,15 @@ def output_numbers(ipynb):
 
 
 SUMMARY_ROWS = 120  # prose quotes summaries: time series (longer files) do not count
+# Columns that make a file a time series, whatever its length.
+TIME_AXES = {"t", "orbit"}
 
 
 def data_numbers():
     values = []
     for path in sorted((ROOT / "data").glob("*.csv")):
         frame = pd.read_csv(path)
-        if len(frame) > SUMMARY_ROWS:
+        if len(frame) > SUMMARY_ROWS or TIME_AXES & set(frame.columns):
             continue
         for column in frame.columns:
             if pd.api.types.is_numeric_dtype(frame[column]):

@@ -88,3 +88,118 @@ def test_solve_degree_names_its_bad_arguments():
                          (dict(degree=4, derivatives="x"), "derivatives")):
         with pytest.raises(ValueError, match=name):
             solve_degree(f, (0.0, 1.0), 1.0, 0.0, 0.1, **kwargs)
+
+
+def _ellipse_run(solver, orbits, h):
+    ellipse = problems.cannonball(0.6)
+    period = problems.orbit_elements(0.6)["period"]
+    t = h * np.arange(int(round(orbits * period / h)) + 1)
+    res = solver(ellipse.fun, (0.0, t[-1]), ellipse.y0, ellipse.yp0, h, args=ellipse.args,
+                 t_eval=t)
+    return t, res.y, ellipse.reference(t)[0], period
+
+
+def test_phase_drift_measured_two_ways_agrees_and_both_methods_lag():
+    """The polar angle's drift per orbit from the unwrapped angle error against
+    the exact solution, and from the periapsis passages alone (period and turn
+    of the periapsis): two independent measurements of one number.  Over 40
+    orbits the orbit-averaged angle error still carries the within-orbit
+    oscillation at O(1/orbits) of the drift, so they must agree to a few per
+    cent; both methods lag, the spline by more."""
+    drifts = {}
+    for name, solver in (("spline", splinestep.solve), ("verlet", splinestep.verlet)):
+        t, y, exact, period = _ellipse_run(solver, 40, 0.01)
+        by_angle = diagnostics.phase_drift_from_angle(t, y, exact, period)
+        by_passages, period_error, precession = diagnostics.phase_drift_from_passages(
+            t, y, period)
+        assert abs(by_passages / by_angle - 1) < 0.03
+        assert by_angle < 0 and period_error > 0
+        drifts[name] = (by_angle, precession)
+    assert 1.4 < drifts["spline"][0] / drifts["verlet"][0] < 2.0
+    # the periapsis turns by equal and opposite amounts (the conjugacy's phi is
+    # radial, the two methods' error constants are opposite)
+    assert abs(drifts["spline"][1] + drifts["verlet"][1]) < 0.05 * abs(drifts["spline"][1])
+
+
+def test_phase_drift_scales_as_h_squared():
+    """A second-order method's drift per orbit shrinks 4 times when h halves."""
+    drift = {h: diagnostics.phase_drift_from_passages(*(lambda t, y, e, p: (t, y, p))(
+        *_ellipse_run(splinestep.solve, 10, h)))[0] for h in (0.02, 0.01)}
+    assert abs(drift[0.02] / drift[0.01] - 4.0) < 0.1
+
+
+def test_phase_drift_diagnostics_recover_a_known_drift():
+    """On a synthetic orbit whose angle lags by exactly c per orbit and whose
+    periapsis turns by p per orbit, both measurements return them."""
+    period, c, p = 2.0, -3e-3, 1e-3
+    t = np.linspace(0.0, 20 * period, 20 * 4000 + 1)
+    mean_anomaly = 2 * np.pi * t / period
+    e = 0.5
+    E = mean_anomaly.copy()
+    for _ in range(50):
+        E = mean_anomaly + e * np.sin(E)
+    r = 1 - e * np.cos(E)
+    nu = 2 * np.arctan2(np.sqrt(1 + e) * np.sin(E / 2), np.sqrt(1 - e) * np.cos(E / 2))
+    exact = np.vstack([r * np.cos(nu), r * np.sin(nu)])
+    orbit_count = t / period
+    # the computed orbit: period stretched so that the angle lags by (c - p) per
+    # orbit through the timing, and turned by p per orbit
+    stretch = 1 + (c - p) / (2 * np.pi)
+    E2 = mean_anomaly * stretch
+    for _ in range(50):
+        E2 = mean_anomaly * stretch + e * np.sin(E2)
+    r2 = 1 - e * np.cos(E2)
+    nu2 = 2 * np.arctan2(np.sqrt(1 + e) * np.sin(E2 / 2), np.sqrt(1 - e) * np.cos(E2 / 2))
+    turn = p * orbit_count * stretch
+    y = np.vstack([r2 * np.cos(nu2 + turn), r2 * np.sin(nu2 + turn)])
+    by_passages, _, precession = diagnostics.phase_drift_from_passages(t, y, period)
+    assert abs(precession - p) < 1e-5
+    assert abs(by_passages - c) < 2e-5
+    assert abs(diagnostics.phase_drift_from_angle(t, y, exact, period) - c) < 2e-4
+
+
+def test_starting_errors_must_be_of_order_p_plus_1():
+    """Henrici's hypothesis on the starting values: y_0 off by h^2 (y_1 exact)
+    costs one order, y_0 off by h^3 does not, and the package's start (y_0
+    exact, y_1 one step) gives order 2; the two-step recurrence started as the
+    package starts reproduces the package's run."""
+    steps = np.array([0.1, 0.05, 0.025, 0.0125])
+
+    def order(start):
+        errors = []
+        for h in steps:
+            y = theory.two_step_oscillator(*start(h), h, int(round(10.0 / h)))
+            errors.append(np.max(np.abs(y - np.cos(h * np.arange(y.size)))))
+        return np.polyfit(np.log(steps), np.log(errors), 1)[0]
+
+    def package(h):
+        return 1.0, splinestep.solve(lambda t, y, yp: -y, (0.0, h), 1.0, 0.0, h, tol=1e-15).y[0, 1]
+
+    assert abs(order(package) - 2) < 0.05
+    assert abs(order(lambda h: (1 + h ** 2, np.cos(h))) - 1) < 0.05
+    assert abs(order(lambda h: (1 + h ** 3, np.cos(h))) - 2) < 0.05
+    run = splinestep.solve(lambda t, y, yp: -y, (0.0, 10.0), 1.0, 0.0, 0.05, tol=1e-15)
+    recurrence = theory.two_step_oscillator(1.0, run.y[0, 1], 0.05, run.nstep)
+    assert np.max(np.abs(recurrence - run.y[0])) < 1e-12
+
+
+def test_knots_satisfy_the_two_step_relation_with_f_evaluated_afresh():
+    """The relation holds to rounding for converged steps, and visibly not for
+    one sweep per step (so the check can fail)."""
+    ellipse = problems.cannonball(0.6)
+
+    def residual(run):
+        f = np.column_stack([ellipse.fun(t, y, yp, *ellipse.args)
+                             for t, y, yp in zip(run.t, run.y.T, run.yp.T)])
+        return np.max(np.abs(run.y[:, 2:] - 2 * run.y[:, 1:-1] + run.y[:, :-2]
+                             - 0.01 ** 2 * (f[:, 2:] + 4 * f[:, 1:-1] + f[:, :-2]) / 6))
+
+    assert residual(ellipse.solve(h=0.01, tol=1e-15, t_eval=None)) < 1e-14
+    assert residual(ellipse.solve(h=0.01, iterations=1, t_eval=None)) > 1e-13
+
+
+def test_one_sweep_costs_verlets_one_evaluation_per_step():
+    ellipse = problems.cannonball(0.6)
+    one = ellipse.solve(h=0.01, iterations=1)
+    verlet = ellipse.solve("verlet", h=0.01)
+    assert one.nfev == verlet.nfev == one.nstep + 1

@@ -117,3 +117,96 @@ def work_ratio_range(reference, other):
     ratio = (loglog_interp(reference[1], reference[0], grid)
              / loglog_interp(other[1], other[0], grid))
     return float(np.nanmin(ratio)), float(np.nanmax(ratio))
+
+
+def _polar_angle(y):
+    """Unwrapped polar angle of planar positions y (shape (2, n)), in time order."""
+    return np.unwrap(np.arctan2(y[1], y[0]))
+
+
+def phase_drift_from_angle(t, y, y_exact, period):
+    """Phase drift per orbit from the unwrapped polar-angle error.
+
+    The angle error ``theta(t) - theta_exact(t)`` is unwrapped along the
+    samples (which must be dense enough that neither angle turns by more
+    than pi between two of them), averaged over each whole orbit of the
+    exact solution, and fitted linearly against the orbit number.
+
+    Parameters
+    ----------
+    t : array_like, shape (n,)
+        Sample times, increasing, from 0.
+    y, y_exact : array_like, shape (2, n)
+        Computed and exact planar positions at ``t``.
+    period : float
+        The exact orbit's period.
+
+    Returns
+    -------
+    float
+        The fitted drift of the polar angle per orbit, in radians (negative:
+        the computed body lags).
+    """
+    t = np.asarray(t, dtype=float)
+    error = _polar_angle(np.asarray(y)) - _polar_angle(np.asarray(y_exact))
+    orbit = np.floor(t / period).astype(int)
+    whole = orbit < np.floor(t[-1] / period)
+    if np.unique(orbit[whole]).size < 2:
+        raise ValueError("t must span at least two whole orbits")
+    means = np.bincount(orbit[whole], error[whole]) / np.bincount(orbit[whole])
+    return np.polyfit(np.arange(means.size) + 0.5, means, 1)[0]
+
+
+def periapsis_passages(t, y):
+    """Times and polar angles of the computed orbit's periapsis passages.
+
+    Each local minimum of the distance ``r`` among the samples is refined by
+    the parabola through it and its two neighbours (uniform samples), and
+    the polar angle is interpolated to the refined time.
+
+    Parameters
+    ----------
+    t : array_like, shape (n,)
+        Uniformly spaced sample times.
+    y : array_like, shape (2, n)
+        Planar positions at ``t``.
+
+    Returns
+    -------
+    times, angles : ndarray
+        The refined passage times and the unwrapped polar angles there.
+    """
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    r = np.hypot(y[0], y[1])
+    i = np.flatnonzero((r[1:-1] < r[:-2]) & (r[1:-1] <= r[2:])) + 1
+    shift = 0.5 * (r[i - 1] - r[i + 1]) / (r[i - 1] - 2 * r[i] + r[i + 1])
+    theta = _polar_angle(y)
+    dt = t[1] - t[0]
+    return t[i] + shift * dt, theta[i] + shift * 0.5 * (theta[i + 1] - theta[i - 1])
+
+
+def phase_drift_from_passages(t, y, period):
+    """Phase drift per orbit from the periapsis passages alone (no reference
+    solution): the computed anomalistic period ``T_h`` (the slope of the
+    passage times against their count) and the precession of the periapsis
+    per orbit (the slope of its angle less 2 pi per orbit) give the drift
+    of the polar angle per orbit, ``2 pi (T/T_h - 1) + precession``.
+
+    Returns
+    -------
+    drift : float
+        Radians per orbit (negative: the computed body lags).
+    period_error : float
+        ``T_h/T - 1``.
+    precession : float
+        Turn of the periapsis per orbit, radians.
+    """
+    times, angles = periapsis_passages(t, y)
+    if times.size < 3:
+        raise ValueError("t must contain at least three periapsis passages")
+    count = np.arange(times.size)
+    computed_period = np.polyfit(count, times, 1)[0]
+    precession = np.polyfit(count, angles - 2 * np.pi * count, 1)[0]
+    return (2 * np.pi * (period / computed_period - 1) + precession,
+            computed_period / period - 1, precession)

@@ -166,3 +166,25 @@ def modified_potential(V, Q, order=4):
         qq = sp.series(Q + h ** 2 / 6 * f.subs(Q, qq), h, 0, order + 1).removeO()
     force = sp.series(f.subs(Q, qq), h, 0, order + 1).removeO()
     return sp.expand(-sp.integrate(force, Q))
+
+
+def two_step_oscillator(y0, y1, h, steps, omega=1.0):
+    """The spline stepper's two-step method on y'' = -omega^2 y, from given
+    starting values: ``y_{n+1} - 2 y_n + y_{n-1} = h^2 (f_{n+1} + 4 f_n + f_{n-1})/6``
+    with ``f = -omega^2 y``, solved for ``y_{n+1}`` (it is linear), for
+    ``steps`` steps.  Returns ``y_0, ..., y_steps``.
+
+    The starting values are free, so that the hypotheses of the convergence
+    theorem on them (Hairer, Norsett and Wanner I, Sec. III.10) can be tried
+    one at a time.
+    """
+    import numpy as np
+    if steps < 1:
+        raise ValueError(f"steps must be at least 1, got {steps}")
+    x2 = (omega * h) ** 2
+    factor = (2 - 2 * x2 / 3) / (1 + x2 / 6)
+    y = np.empty(steps + 1)
+    y[0], y[1] = y0, y1
+    for n in range(1, steps):
+        y[n + 1] = factor * y[n] - y[n - 1]
+    return y
