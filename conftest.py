@@ -50,7 +50,18 @@ def pytest_runtest_teardown(item, nextitem):
         done_marker(stem).touch()
 
 
+# Tests that compare what the notebooks wrote with the committed files: they
+# wait for every notebook, so they come last of all.
+COMPARISONS = "test_outputs.py"
+
+
 def pytest_collection_modifyitems(config, items):
-    """Notebooks in ``reproduce.LAST`` after every other test: a worker then
-    never waits for a notebook that it would itself run later."""
-    items.sort(key=lambda item: notebook_of(item) in reproduce.LAST)
+    """Notebooks in ``reproduce.LAST`` after every other test, and the
+    comparisons of their outputs after those: a worker then never waits for a
+    notebook that it would itself run later, and waits for the others only
+    when it has nothing else left to run."""
+    def rank(item):
+        if Path(str(item.path)).name == COMPARISONS:
+            return 2
+        return 1 if notebook_of(item) in reproduce.LAST else 0
+    items.sort(key=rank)
