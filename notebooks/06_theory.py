@@ -662,7 +662,7 @@ spline_windows = long_time[long_time.method == "spline"]
 print(f"spline, modified energy H~: largest error {spline_windows.modified_energy_error.max():.1e}; "
       f"modified angular momentum: {spline_windows.modified_momentum_error.max():.1e}")
 
-fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 7.0), sharex=True)
+fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 6.4), sharex=True)
 styles = {"spline": ("C0", "o"), "Verlet": ("C2", "^"), "RK4, same work": ("C1", "D")}
 for method, group in long_time.groupby("method", sort=False):
     color, marker = styles.get(method, ("C4", "v"))
