@@ -254,6 +254,30 @@ def whole_trajectory_rows(repeats=5):
     return rows
 
 
+def thread_rows(repeats=3):
+    """Seconds of two long compiled solves (spline and Verlet, 3,000 orbits
+    of the ellipse at h = 0.01) one after the other and in two threads: the
+    loops release the GIL, so the pair takes about the longer of the two."""
+    from concurrent.futures import ThreadPoolExecutor
+    problem = problems.cannonball(0.6)
+    t_end = 3000 * problems.orbit_elements(0.6)["period"]
+    runs = (lambda: splinestep.solve(problem.fun, (0.0, t_end), problem.y0, problem.yp0, 0.01,
+                                     args=problem.args, t_eval=np.array([t_end])),
+            lambda: splinestep.verlet(problem.fun, (0.0, t_end), problem.y0, problem.yp0, 0.01,
+                                      args=problem.args, t_eval=np.array([t_end])))
+
+    def threaded():
+        with ThreadPoolExecutor(2) as pool:
+            return [future.result() for future in [pool.submit(run) for run in runs]]
+
+    [run() for run in runs]   # compile
+    one_by_one = min(median_time(lambda: [run() for run in runs], 1)[0] for _ in range(repeats))
+    both = min(median_time(threaded, 1)[0] for _ in range(repeats))
+    return [["ellipse, 3000 orbits: spline then Verlet, one thread", f"{one_by_one:.2f} s", "1.00"],
+            ["ellipse, 3000 orbits: spline and Verlet in two threads", f"{both:.2f} s",
+             f"{both / one_by_one:.2f}"]]
+
+
 def table(header, rows):
     lines = ["| " + " | ".join(header) + " |",
              "|" + "|".join("---:" if i else "---" for i in range(len(header))) + "|"]
@@ -288,7 +312,8 @@ def main(quick=False):
                            rows)
             lines.append("")
     lines += ["**Whole-trajectory solves** (each pair in the same run)", ""]
-    lines += table(["solve", "time", "ratio to the first of its pair"], whole_trajectory_rows())
+    lines += table(["solve", "time", "ratio to the first of its pair"],
+                   whole_trajectory_rows() + thread_rows())
     lines.append("")
     process = process_rows(quick)
     lines += table(["process", "seconds"], [[label, f"{s:.2f}"] for label, s in process])

@@ -119,3 +119,32 @@ def test_tuple_of_wrong_length_is_a_value_error(solver, fun):
     with pytest.raises(ValueError, match=r"fun must return an array of shape \(1,\).*"
                                          r"tuple of shape \(2,\)"):
         solver(fun, (0, 1), 1.0, 0.0, 0.1)
+
+
+def test_loops_release_the_gil_and_threads_reproduce_sequential_runs():
+    """Two solves in two threads (one with a compiled fun, whose loop runs
+    without the GIL, one with a plain-Python fun, whose calls take the GIL
+    back) give bit for bit what the same solves give one after the other."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from splinestep import _compile
+
+    problem = problems.cannonball(0.6)
+    plain_fun = problem.fun.py_func
+
+    def runs():
+        return (lambda: splinestep.solve(problem.fun, (0.0, 30.0), problem.y0, problem.yp0,
+                                         0.01, args=problem.args),
+                lambda: splinestep.verlet(problem.fun, (0.0, 30.0), problem.y0, problem.yp0,
+                                          0.01, args=problem.args),
+                lambda: splinestep.solve(plain_fun, (0.0, 3.0), problem.y0, problem.yp0, 0.01,
+                                         args=problem.args))
+
+    sequential = [run() for run in runs()]
+    with ThreadPoolExecutor(3) as pool:
+        threaded = [future.result() for future in [pool.submit(run) for run in runs()]]
+    for one, other in zip(sequential, threaded):
+        assert one.status == other.status == 0
+        assert np.array_equal(one.y, other.y) and np.array_equal(one.yp, other.yp)
+    assert _compile._LOOPS and all(loop.targetoptions.get("nogil")
+                                   for loop in _compile._LOOPS.values())

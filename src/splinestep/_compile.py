@@ -30,6 +30,7 @@ References
 import contextlib
 import hashlib
 import itertools
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -89,6 +90,7 @@ INT_VECTOR = types.int64[::1]
 
 # (python loop, argument types) -> numba dispatcher compiled for those types
 _LOOPS = {}
+_LOOPS_LOCK = threading.Lock()
 
 
 def function_type(f, arg_types):
@@ -114,11 +116,18 @@ def loop_types(fun, jac, args):
 
 def compiled(py_loop, arg_types):
     """``py_loop`` compiled (or loaded from the disk cache) for exactly
-    ``arg_types``; one dispatcher per signature, kept for the process."""
+    ``arg_types``; one dispatcher per signature, kept for the process.
+
+    A loop releases the GIL while it runs (``nogil``): two long solves in
+    two threads proceed at once on two cores.  A plain-Python ``fun`` takes
+    the GIL back for each of its calls (numba's objmode does), so only
+    compiled right-hand sides run in parallel.  The generated arithmetic is
+    the same with or without the flag."""
     key = (py_loop, tuple(arg_types))
-    if key not in _LOOPS:
-        _LOOPS[key] = njit(tuple(arg_types), cache=True)(py_loop)
-    return _LOOPS[key]
+    with _LOOPS_LOCK:   # two threads asking at once compile once
+        if key not in _LOOPS:
+            _LOOPS[key] = njit(tuple(arg_types), cache=True, nogil=True)(py_loop)
+        return _LOOPS[key]
 
 
 # Plain-Python right-hand sides.  The compiled loop calls them through two
