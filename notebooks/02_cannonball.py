@@ -338,7 +338,9 @@ outputs.say(
     f"local error, $|\\mathbf x''''|$, {outputs.sci(value['x4_ratio_arcs'])} times "
     f"(log-correlation {value['log_correlation_rate_x4']:.2f}).  "
     f"{value['energy_variation_share_r_lt_1_5']:.0%} of the energy error's variation "
-    f"happens at $r < 1.5$, in {value['time_share_r_lt_1_5']:.0%} of the time.")
+    f"happens at $r < 1.5$, in {value['time_share_r_lt_1_5']:.0%} of the time (both over "
+    f"$t \\in [0, 50]$, which holds two periapsis passages).")
+
 outputs.say(
     f"The energy error is not accumulated noise either: it jumps as the body passes "
     f"periapsis, stays on a plateau ({outputs.sci(value['energy_error_apoapsis'])} at "

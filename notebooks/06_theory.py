@@ -858,16 +858,17 @@ outputs.say(
     f"At the same step the spline's error is {outputs.span((step_ratio.min(), step_ratio.max()), decimals=2)} "
     f"times Verlet's at every step size: a constant factor, not 1.  The two methods' error "
     f"constants are equal and opposite ($\\mp 1/12$), which on the oscillator gives equal and "
-    f"opposite period errors; on this orbit the position error is mostly phase, and the "
-    f"spline's phase drifts {phase_ratio:.2f} times as fast as Verlet's (section 6).  At equal "
-    f"evaluations Verlet wins: the converged spline's "
+    f"opposite period errors, but on this orbit the spline's phase drifts {phase_ratio:.2f} "
+    f"times as fast as Verlet's (section 6), which accounts for much, not all, of the factor "
+    f"over $t \\in [0, 50]$.  This is one orbit, $\\mu = 0.6$; other orbits give other "
+    f"factors.  At equal evaluations Verlet wins here: the converged spline's "
     f"error is {ratios['spline'][0]:.1f} to {ratios['spline'][1]:.1f} times Verlet's.  With "
     f"one sweep per step the spline evaluates $F$ once per step, as Verlet does, and its error "
     f"is {ratios['spline (1 sweep)'][0]:.1f} to {ratios['spline (1 sweep)'][1]:.1f} times "
-    f"Verlet's.  Being the same method in other variables, "
+    f"Verlet's.  Iterated to convergence, the spline stepper is Verlet in other variables "
+    f"and buys nothing over it for $y'' = f(y)$ but its extra cost; its difference is that it "
+    f"handles $F(t, y, y')$ implicitly.")
 
-    f"the spline stepper buys nothing over Verlet for $y'' = f(y)$ but its extra cost; its "
-    f"difference is that it handles $F(t, y, y')$ implicitly.")
 
 # %% [markdown]
 # ## The derived constants against the measurements
