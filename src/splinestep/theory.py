@@ -21,6 +21,7 @@ References
    (1967) 433-445.
 """
 
+import numpy as np
 import sympy as sp
 
 h, x, zeta = sp.symbols("h x zeta")
@@ -178,7 +179,6 @@ def two_step_oscillator(y0, y1, h, steps, omega=1.0):
     theorem on them (Hairer, Norsett and Wanner I, Sec. III.10) can be tried
     one at a time.
     """
-    import numpy as np
     if steps < 1:
         raise ValueError(f"steps must be at least 1, got {steps}")
     x2 = (omega * h) ** 2
