@@ -66,9 +66,9 @@ def test_one_percent_change_of_a_coefficient_fails(committed, monkeypatch):
     # The loop and the step run as plain Python, reading the changed weight.
     monkeypatch.setattr(step, "Y_WEIGHT", 1.01 / 6.0)
     monkeypatch.setattr(_compile, "compiled", lambda py_loop, arg_types: py_loop)
-    plain_step = step.spline_step.py_func
-    monkeypatch.setattr(step, "spline_step", plain_step)
-    monkeypatch.setattr(spline, "spline_step", plain_step)
+    for name in ("_start", "_finish", "sweep_step"):
+        monkeypatch.setattr(step, name, getattr(step, name).py_func)
+    monkeypatch.setattr(spline, "sweep_step", step.sweep_step)
     monkeypatch.setattr(spline, "composed_step", step.composed_step.py_func)
     problems_found = compare(committed, spline_max_errors())
     assert any("position_error" in p for p in problems_found), problems_found

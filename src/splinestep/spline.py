@@ -27,7 +27,7 @@ from .events import check_events, locate
 from ._base import BAD_SHAPE, NON_FINITE, OK, as_vector, wrong_length
 from .result import HermiteSolution, SplineSolution
 from .step import (FIXED_POINT, NEWTON, YP_WEIGHT, Y_WEIGHT, composed_step, local_errors,
-                   quintic, spline_step, step_state)
+                   quintic, step_state, sweep_step)
 
 ITERATIONS = ("fixed-point", "newton", "global")
 
@@ -156,14 +156,14 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0,
         else:
             t_new = tf
         dt = t_new - t
-        if composed:   # a separate call: the one-step case stays inlined and small
-            status, fe, je, it = composed_step(fun, args, jac, t, dt, weights, slots, y, yp,
+        if composed or mode != FIXED_POINT:
+            # A separate call: the sweep, the hot path, stays inlined and small.
+            status, fe, je, it = composed_step(fun, args, jac, t, t_new, weights, slots, y, yp,
                                                ypp, z, y_new, yp_new, mode, n_iter,
                                                until_converged, tol, reuse, work, lu, piv, info)
         else:
-            status, fe, je, it = spline_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new,
-                                             yp_new, mode, n_iter, until_converged, tol, reuse,
-                                             work, lu, piv, info, 0)
+            status, fe, je, it = sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new,
+                                            n_iter, until_converged, tol, work)
         nfev += fe
         njev += je
         niter += it

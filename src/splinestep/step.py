@@ -168,30 +168,102 @@ def _build_matrix(fun, args, jac, t_new, dt, base_y, base_yp, z, g, y_new, yp_ne
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def spline_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, mode, n_iter,
+def _start(dt, y, yp, ypp, z, work):
+    """The parts of y_new and y'_new that do not depend on z, into ``work``,
+    and the report's initial guess z = y'' (its d_i = 0)."""
+    for k in range(y.shape[0]):
+        work[_BASE_Y, k] = y[k] + dt * yp[k] + (Y_START * dt * dt) * ypp[k]
+        work[_BASE_YP, k] = yp[k] + (YP_START * dt) * ypp[k]
+        z[k] = ypp[k]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _finish(dt, z, y_new, yp_new, work):
+    """y_new and y'_new from the final z; OK, or NON_FINITE if either
+    overflowed."""
+    wy = Y_WEIGHT * dt * dt
+    wyp = YP_WEIGHT * dt
+    status = OK
+    for k in range(z.shape[0]):
+        y_new[k] = work[_BASE_Y, k] + wy * z[k]
+        yp_new[k] = work[_BASE_YP, k] + wyp * z[k]
+        if not (abs(y_new[k]) < np.inf and abs(yp_new[k]) < np.inf):
+            status = NON_FINITE
+    return status
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter, until_converged,
+               tol, work):
+    """One step by the report's fixed-point sweep z <- F(t_new, y_new(z),
+    y'_new(z)) (eq. 9), ``n_iter`` sweeps at most (exactly, when not
+    ``until_converged``).  Arguments and return value as
+    :func:`spline_step`; no Jacobian is evaluated (njev = 0).
+
+    Inlined into the loops that call it: this is the hot path of the
+    uniform driver, which ``make bench`` holds against a C loop.  The
+    change of z is computed only when it is tested."""
+    m = y.shape[0]
+    wy = Y_WEIGHT * dt * dt
+    wyp = YP_WEIGHT * dt
+    w_max = max(wy, abs(wyp))
+    _start(dt, y, yp, ypp, z, work)
+    status = NOT_CONVERGED if until_converged else OK
+    nfev = 0
+    niter = 0
+    for _ in range(n_iter):
+        size = 0.0
+        for k in range(m):
+            y_new[k] = work[_BASE_Y, k] + wy * z[k]
+            yp_new[k] = work[_BASE_YP, k] + wyp * z[k]
+            size = max(size, abs(y_new[k]), abs(yp_new[k]))
+        if not size < np.inf:
+            # A diverging sweep overflows; an infinite size would pass the
+            # relative convergence test below.
+            status = DIVERGED
+            break
+        g = as_vector(fun(t_new, y_new, yp_new, *args))
+        nfev += 1
+        if wrong_length(g, m):
+            status = BAD_SHAPE
+            break
+        bad = False
+        for k in range(m):
+            if not abs(g[k]) < np.inf:
+                bad = True
+        if bad:
+            status = NON_FINITE
+            break
+        niter += 1
+        if until_converged:
+            change = 0.0
+            for k in range(m):
+                change = max(change, abs(g[k] - z[k]))
+                z[k] = g[k]
+            if w_max * change <= tol * size:
+                status = OK
+                break
+        else:
+            for k in range(m):
+                z[k] = g[k]
+    if status == OK:
+        status = _finish(dt, z, y_new, yp_new, work)
+    return status, nfev, 0, niter
+
+
+@njit(cache=True, error_model="numpy")
+def newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
                 until_converged, tol, reuse, work, lu, piv, info, slot):
-    """One step from (y, y', y'') to t_new = t + dt.
+    """One step by simplified Newton on R(z) = z - F(t_new, y_new(z),
+    y'_new(z)) = 0.  Arguments and return value as :func:`spline_step`.
 
-    On return ``z`` holds y'' at t_new and ``y_new``, ``yp_new`` the value
-    and slope there (consistent with ``z``).  ``mode`` is FIXED_POINT or
-    NEWTON; ``n_iter`` iterations at most (exactly, when not
-    ``until_converged``); converged when the change of the increments
-    dt^2/6 |dz| and dt/2 |dz| is at most ``tol`` times the size of the
-    state (max norm).  ``work``, ``lu``, ``piv``, ``info`` come from
-    :func:`step_state`; the step keeps its Newton matrix in ``slot`` and
-    rebuilds it at every iteration when not ``reuse``.  A step that fails
-    with a kept matrix is tried again from the start with the matrix rebuilt
-    at every iteration, so reusing it never loses a step that full Newton
-    would solve.
-
-    Inlined into the drivers' loops (numba ``inline="always"``), with the
-    retry as a loop rather than a second call, and ``work`` rows and Newton
-    slots indexed in place: a function call, a second inlined copy or a
-    view per step each cost the uniform loop measurable time per
-    evaluation (``make bench``).
-
-    Returns (status, nfev, njev, niter).
-    """
+    The step keeps its Newton matrix in ``slot`` and rebuilds it at every
+    iteration when not ``reuse``.  A step that fails with a kept matrix is
+    tried again from the start with the matrix rebuilt at every iteration,
+    so reusing it never loses a step that full Newton would solve.  Not
+    inlined: a Newton step costs at least an evaluation and a solve, and
+    its code, inlined beside the sweep, slows the sweep down (``make
+    bench``)."""
     m = y.shape[0]
     wy = Y_WEIGHT * dt * dt
     wyp = YP_WEIGHT * dt
@@ -202,13 +274,9 @@ def spline_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, mode, n
     status = OK
     kept = reuse
     for attempt in range(2):
-        for k in range(m):
-            work[_BASE_Y, k] = y[k] + dt * yp[k] + (Y_START * dt * dt) * ypp[k]
-            work[_BASE_YP, k] = yp[k] + (YP_START * dt) * ypp[k]
-            z[k] = ypp[k]  # the report's initial guess d_i = 0
+        _start(dt, y, yp, ypp, z, work)
         status = NOT_CONVERGED if until_converged else OK
-        if (mode == NEWTON and info[slot, 0] != 0.0
-                and abs(dt - info[slot, 1]) > STEP_CHANGE * abs(info[slot, 1])):
+        if info[slot, 0] != 0.0 and abs(dt - info[slot, 1]) > STEP_CHANGE * abs(info[slot, 1]):
             info[slot, 0] = 0.0
         fresh = False        # the matrix was built during this step
         last_change = np.inf
@@ -219,8 +287,6 @@ def spline_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, mode, n
                 yp_new[k] = work[_BASE_YP, k] + wyp * z[k]
                 size = max(size, abs(y_new[k]), abs(yp_new[k]))
             if not size < np.inf:
-                # A diverging sweep overflows; an infinite size would pass the
-                # relative convergence test below.
                 status = DIVERGED
                 break
             g = as_vector(fun(t_new, y_new, yp_new, *args))
@@ -233,71 +299,89 @@ def spline_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, mode, n
                     status = NON_FINITE
             if status == NON_FINITE:
                 break
+            if info[slot, 0] == 0.0:
+                for k in range(m):
+                    work[_G, k] = g[k]
+                fe, je = _build_matrix(fun, args, jac, t_new, dt, work[_BASE_Y], work[_BASE_YP],
+                                       z, work[_G], y_new, yp_new, lu[slot], piv[slot],
+                                       info[slot])
+                nfev += fe
+                njev += je
+                fresh = True
+            dz = work[_RESIDUAL]
+            for k in range(m):
+                dz[k] = g[k] - z[k]
+            lu_solve(lu[slot], piv[slot], dz)
+            bad = False
+            for k in range(m):
+                if not abs(dz[k]) < np.inf:
+                    bad = True
+            if bad:
+                if fresh:
+                    status = SINGULAR
+                    break
+                info[slot, 0] = 0.0  # a kept matrix failed: rebuild it next iteration
+                niter += 1
+                continue
             change = 0.0
-            if mode == FIXED_POINT:
-                # Sweep: eq. 9 gives the new c_{i+1} = z / 2 (eq. 8 then d_i).
-                for k in range(m):
-                    change = max(change, abs(g[k] - z[k]))
-                    z[k] = g[k]
-            else:
-                # Newton on R(z) = z - F(t, y_new(z), y'_new(z)) = 0.
-                if info[slot, 0] == 0.0:
-                    for k in range(m):
-                        work[_G, k] = g[k]
-                    fe, je = _build_matrix(fun, args, jac, t_new, dt, work[_BASE_Y],
-                                           work[_BASE_YP], z, work[_G], y_new, yp_new, lu[slot],
-                                           piv[slot], info[slot])
-                    nfev += fe
-                    njev += je
-                    fresh = True
-                dz = work[_RESIDUAL]
-                for k in range(m):
-                    dz[k] = g[k] - z[k]
-                lu_solve(lu[slot], piv[slot], dz)
-                bad = False
-                for k in range(m):
-                    if not abs(dz[k]) < np.inf:
-                        bad = True
-                if bad:
-                    if fresh:
-                        status = SINGULAR
-                        break
-                    info[slot, 0] = 0.0  # a kept matrix failed: rebuild it next iteration
-                    niter += 1
-                    continue
-                for k in range(m):
-                    change = max(change, abs(dz[k]))
-                    z[k] += dz[k]
-                if not kept or (change > SLOW_RATE * last_change and not fresh):
-                    info[slot, 0] = 0.0
-                last_change = change
+            for k in range(m):
+                change = max(change, abs(dz[k]))
+                z[k] += dz[k]
+            if not kept or (change > SLOW_RATE * last_change and not fresh):
+                info[slot, 0] = 0.0
+            last_change = change
             niter += 1
             if until_converged and w_max * change <= tol * size:
                 status = OK
                 break
         if status == OK:
-            for k in range(m):
-                y_new[k] = work[_BASE_Y, k] + wy * z[k]
-                yp_new[k] = work[_BASE_YP, k] + wyp * z[k]
-                if not (abs(y_new[k]) < np.inf and abs(yp_new[k]) < np.inf):
-                    status = NON_FINITE
-        if status != OK and mode == NEWTON:
+            status = _finish(dt, z, y_new, yp_new, work)
+        if status != OK:
             info[slot, 0] = 0.0
-        if status == OK or mode != NEWTON or not kept or fresh:
+        if status == OK or not kept or fresh:
             break
         kept = False   # the kept matrix failed this step: redo it with full Newton
     return status, nfev, njev, niter
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def spline_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, mode, n_iter,
+                until_converged, tol, reuse, work, lu, piv, info, slot):
+    """One step from (y, y', y'') to t_new = t + dt.
+
+    On return ``z`` holds y'' at t_new and ``y_new``, ``yp_new`` the value
+    and slope there (consistent with ``z``).  ``mode`` is FIXED_POINT
+    (:func:`sweep_step`) or NEWTON (:func:`newton_step`); ``n_iter``
+    iterations at most (exactly, when not ``until_converged``); converged
+    when the change of the increments dt^2/6 |dz| and dt/2 |dz| is at most
+    ``tol`` times the size of the state (max norm).  ``work``, ``lu``,
+    ``piv``, ``info`` come from :func:`step_state`; ``reuse`` and ``slot``
+    concern Newton's kept matrix.
+
+    Inlined into the drivers' loops (numba ``inline="always"``).  A driver
+    whose hot path is the sweep calls it where ``mode`` is known to be
+    FIXED_POINT, so that the compiler drops the Newton branch there.
+
+    Returns (status, nfev, njev, niter).
+    """
+    if mode == FIXED_POINT:
+        return sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
+                          until_converged, tol, work)
+    return newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
+                       until_converged, tol, reuse, work, lu, piv, info, slot)
+
+
 @njit(cache=True, error_model="numpy")
-def composed_step(fun, args, jac, t, dt, weights, slots, y, yp, ypp, z, y_new, yp_new, mode,
+def composed_step(fun, args, jac, t, t_new, weights, slots, y, yp, ypp, z, y_new, yp_new, mode,
                   n_iter, until_converged, tol, reuse, work, lu, piv, info):
-    """The step from t to t + dt as spline steps of sizes weights[j] dt in
-    turn (weights summing to 1; a single weight 1 is one spline step).
+    """The step from t to t_new = t + dt as spline steps of sizes
+    weights[j] dt in turn (weights summing to 1; a single weight 1 is one
+    spline step, the last sub-step ends at t_new exactly).
     Sub-step j keeps its Newton matrix in slot ``slots[j]``.  Returns what
     :func:`spline_step` returns, summed; on success ``y_new``, ``yp_new``,
     ``z`` hold the state at t + dt."""
     s = weights.shape[0]
+    dt = t_new - t
     nfev = 0
     njev = 0
     niter = 0
@@ -305,7 +389,7 @@ def composed_step(fun, args, jac, t, dt, weights, slots, y, yp, ypp, z, y_new, y
     t_sub = t
     start_y, start_yp, start_ypp = y, yp, ypp
     for j in range(s):
-        t_next = t + dt if j == s - 1 else t_sub + weights[j] * dt
+        t_next = t_new if j == s - 1 else t_sub + weights[j] * dt
         if j > 0:   # later sub-steps start where the one before ended
             start_y, start_yp, start_ypp = work[_SUB_Y], work[_SUB_YP], work[_SUB_YPP]
             for k in range(y.shape[0]):
