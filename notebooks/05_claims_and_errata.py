@@ -20,6 +20,7 @@ import splinestep
 from splinestep import diagnostics, problems
 from splinestep.problems import kepler
 
+# %%
 cannon = outputs.read_data("cannonball-max-errors")
 histories = outputs.read_data("cannonball-error-histories")
 location = outputs.read_data("cannonball-error-location").set_index("quantity").value

@@ -5,11 +5,16 @@ table.  A failing notebook stops the run.
 
 The notebooks are independent, except those in ``LAST``, which read what the
 others write and run after them.  The others run ``JOBS`` at a time (each in
-its own kernel); the lines are printed in the notebooks' order whatever
-order they finish in."""
+its own kernel), longest first (``ORDER``); the lines are printed in the
+notebooks' order whatever order they finish in.  A notebook in ``LAST``
+starts its kernel and runs its first code cell (imports only: it must not
+read data/) at once, beside the others, and its other cells when they are
+done: the one step that must wait does not also wait for a kernel to start."""
 
+import asyncio
 import os
 import sys
+import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -22,8 +27,10 @@ ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.py"))
 # Notebooks that read the data the others write: run after all the others.
 LAST = ("05_claims_and_errata",)
-# The longest notebooks start first, so that the others run beside them.
-LONGEST = ("06_theory", "07_improvements")
+# Notebooks start longest first (times from `make bench`), so that the short
+# ones fill the gaps at the end; any other notebook starts after these.
+ORDER = ("06_theory", "07_improvements", "02_cannonball", "04_convergence", "03_rigid_body",
+         "01_method")
 # Notebooks run at the same time (each kernel is one process).
 JOBS = int(os.environ.get("SPLINESTEP_JOBS", "2"))
 KERNELSPEC = {"name": "python3", "display_name": "Python 3 (ipykernel)", "language": "python"}
@@ -52,8 +59,32 @@ def readme_with_tables(text, data_dir):
     return text
 
 
-def execute(script, output_root=None):
-    """Execute the percent script ``script`` and write its paired .ipynb."""
+class _HeldClient(NotebookClient):
+    """A notebook client that runs the first code cell at once and waits
+    for ``ready`` (a ``threading.Event``) before any later one; if
+    ``abandon`` is set by then, it stops there."""
+
+    def __init__(self, notebook, ready, abandon, **kwargs):
+        super().__init__(notebook, **kwargs)
+        self.ready, self.abandon = ready, abandon
+        self.first_code = next(i for i, c in enumerate(notebook.cells) if c.cell_type == "code")
+
+    async def async_execute_cell(self, cell, cell_index, *args, **kwargs):
+        if cell_index > self.first_code and not self.ready.is_set():
+            await asyncio.to_thread(self.ready.wait)
+        if self.abandon.is_set():
+            raise _Abandoned
+        return await super().async_execute_cell(cell, cell_index, *args, **kwargs)
+
+
+class _Abandoned(Exception):
+    """A notebook held for the others' data, given up when one failed."""
+
+
+def execute(script, output_root=None, ready=None, abandon=None):
+    """Execute the percent script ``script`` and return the executed notebook.
+    With ``ready`` (and ``abandon``), hold every cell after the first code
+    cell until ``ready`` is set (:class:`_HeldClient`)."""
     notebook = jupytext.read(script)
     for index, cell in enumerate(notebook.cells):  # stable ids: no diff noise
         cell.id = f"cell-{index:02d}"
@@ -62,8 +93,12 @@ def execute(script, output_root=None):
     env = dict(os.environ, MPLBACKEND="Agg")
     if output_root is not None:
         env["SPLINESTEP_OUTPUT"] = str(output_root)
-    client = NotebookClient(notebook, timeout=600, kernel_name="python3", record_timing=False,
-                            resources={"metadata": {"path": str(script.parent)}})
+    options = dict(timeout=600, kernel_name="python3", record_timing=False,
+                   resources={"metadata": {"path": str(script.parent)}})
+    if ready is None:
+        client = NotebookClient(notebook, **options)
+    else:
+        client = _HeldClient(notebook, ready, abandon, **options)
     client.execute(env=env)
     for cell in notebook.cells:
         cell_outputs = cell.get("outputs", [])
@@ -86,33 +121,57 @@ def _coalesced(cell_outputs):
     return merged
 
 
-def _timed(script, output_root):
+def _timed(script, output_root, ready=None, abandon=None):
+    """(notebook, error, seconds); a held notebook's seconds count from
+    ``ready``, when it could first read the others' data."""
     start = time.perf_counter()
     try:
-        return execute(script, output_root), None, time.perf_counter() - start
+        notebook = execute(script, output_root, ready, abandon)
     except CellExecutionError as error:
         return None, error, time.perf_counter() - start
+    except _Abandoned:
+        return None, None, 0.0
+    if ready is not None:
+        start = max(start, ready.time)
+    return notebook, None, time.perf_counter() - start
+
+
+def _start_rank(script):
+    return ORDER.index(script.stem) if script.stem in ORDER else len(ORDER)
 
 
 def execute_all(scripts, output_root=None, jobs=JOBS):
     """Execute ``scripts``, ``jobs`` at a time, those in ``LAST`` after the
-    others.  Yields (script, notebook, error, seconds) in the order of
-    ``scripts``; after an error nothing more is yielded (and nothing more
-    started)."""
+    others (with their kernels started at once).  Yields (script, notebook,
+    error, seconds) in the order of ``scripts``; after an error nothing
+    more is yielded (and nothing more started)."""
     first = [s for s in scripts if s.stem not in LAST]
     last = [s for s in scripts if s.stem in LAST]
-    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
-        for group in (first, last):
+    ready, abandon = threading.Event(), threading.Event()
+    ready.time = 0.0
+    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool, \
+            ThreadPoolExecutor(max_workers=max(1, len(last))) as held:
+        waiting = {s: held.submit(_timed, s, output_root, ready, abandon) for s in last}
+        try:
             started = {s: pool.submit(_timed, s, output_root)
-                       for s in sorted(group, key=lambda s: s.stem not in LONGEST)}
-            futures = [started[s] for s in group]
-            for script, future in zip(group, futures):
-                notebook, error, seconds = future.result()
+                       for s in sorted(first, key=_start_rank)}
+            for script in first:
+                notebook, error, seconds = started[script].result()
                 yield script, notebook, error, seconds
                 if error is not None:
-                    for other in futures:
+                    for other in started.values():
                         other.cancel()
                     return
+            ready.time = time.perf_counter()
+            ready.set()
+            for script in last:
+                notebook, error, seconds = waiting[script].result()
+                yield script, notebook, error, seconds
+                if error is not None:
+                    return
+        finally:
+            abandon.set()   # after a failure (or a consumer that stopped early)
+            ready.set()
 
 
 def main(names=()):

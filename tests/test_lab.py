@@ -80,7 +80,9 @@ def test_py_opens_with_outputs_and_an_unedited_save_changes_nothing(server):
     before = files(root)
     model = request(f"{url}/api/contents/{NOTEBOOK}.py?type=notebook&content=1")
     code = [c for c in model["content"]["cells"] if c["cell_type"] == "code"]
-    assert code and all(c["outputs"] for c in code), "the .py opened without outputs"
+    stored = [c for c in json.loads(before[".ipynb"])["cells"] if c["cell_type"] == "code"]
+    assert any(c["outputs"] for c in code), "the .py opened without outputs"
+    assert [len(c["outputs"]) for c in code] == [len(c["outputs"]) for c in stored]
     request(f"{url}/api/contents/{NOTEBOOK}.py", "PUT",
             {"type": "notebook", "format": "json", "content": model["content"]})
     assert files(root) == before

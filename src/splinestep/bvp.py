@@ -28,8 +28,6 @@ References
 """
 
 import numpy as np
-from scipy import sparse
-from scipy.sparse.linalg import splu
 
 from . import _base
 from ._base import FD_STEP
@@ -147,6 +145,7 @@ def _system(t, U, F, Fy, Fyp, boundary):
     residual[(y_rows[:, None] + m + np.arange(m)).ravel()] = r_yp.ravel()
     for j, (knot, part, target) in enumerate(rest):
         residual[end + j * m:end + (j + 1) * m] = U[knot, part] - target
+    from scipy import sparse   # here: scipy takes 0.3 s to import
     matrix = sparse.csc_matrix((np.concatenate(vals), (np.concatenate(rows),
                                                        np.concatenate(cols))),
                                shape=(size, size))
@@ -176,6 +175,7 @@ def newton(fun, jac, args, t, U, boundary, tol, max_iter):
                         "finite at the current iterate"), it - 1, nfev, njev
         residual, matrix = _system(t, U, F, Fy, Fyp, boundary)
         try:
+            from scipy.sparse.linalg import splu
             delta = splu(matrix, permc_spec="NATURAL").solve(-residual)
         except RuntimeError as error:  # SuperLU: "Factor is exactly singular"
             return -1, f"Newton iteration {it}: the Jacobian is singular ({error})", it, \

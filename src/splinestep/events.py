@@ -21,7 +21,6 @@ References
 """
 
 import numpy as np
-from scipy.optimize import brentq
 
 # Bracketing tolerance of an event time: a few units of rounding of t.
 XTOL = 4 * np.finfo(float).eps
@@ -123,6 +122,7 @@ def locate(events, T, Y, YP, YPP, g_first=None):
                 def g_on_cubic(t, ev=ev):
                     y, yp, _ = cubic_state(T[i - 1], Y[i - 1], YP[i - 1], YPP[i - 1], jerk, t)
                     return ev(t, y, yp)
+                from scipy.optimize import brentq   # here: scipy takes 0.3 s to import
                 lo, hi = sorted((T[i - 1], T[i]))
                 t_root = brentq(g_on_cubic, lo, hi, xtol=XTOL * max(1.0, abs(hi)),
                                 rtol=XTOL)

@@ -2,13 +2,14 @@
 and the dense output of the spline stepper."""
 
 import numpy as np
-from scipy.interpolate import PPoly
 from numba.extending import register_jitable
-from scipy.optimize import OptimizeResult
 
 
-class OdeResult(OptimizeResult):
-    """Result of an integration, in the style of scipy's ``OdeResult``.
+class OdeResult(dict):
+    """Result of an integration, in the style of scipy's ``OdeResult``: a
+    dict whose keys are also attributes.  (Not scipy's class itself:
+    importing scipy.optimize would add a third of a second to importing
+    the package.)
 
     Attributes
     ----------
@@ -50,6 +51,25 @@ class OdeResult(OptimizeResult):
         ``status == 0``.
     """
 
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError as error:
+            raise AttributeError(name) from error
+
+    __setattr__ = dict.__setitem__
+    __delattr__ = dict.__delitem__
+
+    def __dir__(self):
+        return list(self.keys())
+
+    def __repr__(self):
+        first = [k for k in ("message", "success", "status") if k in self]
+        keys = first + [k for k in self if k not in first]
+        width = max((len(k) for k in keys), default=0)
+        return "\n".join(f"{k:>{width}}: {self[k]!r}".replace("\n", "\n" + " " * (width + 2))
+                         for k in keys) or "OdeResult()"
+
 
 class SplineSolution:
     """The C2 cubic spline that the stepper builds, as a callable.
@@ -69,6 +89,8 @@ class SplineSolution:
         h = np.diff(knots)[:, None]
         a, b, c = y[:-1], yp[:-1], 0.5 * ypp[:-1]
         d = (ypp[1:] - ypp[:-1]) / (6.0 * h)
+        # Imported here: scipy.interpolate takes a fifth of a second to import.
+        from scipy.interpolate import PPoly
         # PPoly wants the highest power first: shape (4, n, m).
         self.ppoly = PPoly(np.stack([d, c, b, a]), knots, extrapolate=False)
         self.t_min, self.t_max = min(knots[0], knots[-1]), max(knots[0], knots[-1])
@@ -108,5 +130,6 @@ class HermiteSolution(SplineSolution):
         h = np.diff(knots)[:, None]
         p0, v0, a0, p1, v1, a1 = y[:-1], yp[:-1], ypp[:-1], y[1:], yp[1:], ypp[1:]
         c3, c4, c5 = quintic_coefficients(h, p0, v0, a0, p1, v1, a1)
+        from scipy.interpolate import PPoly
         self.ppoly = PPoly(np.stack([c5, c4, c3, 0.5 * a0, v0, p0]), knots, extrapolate=False)
         self.t_min, self.t_max = min(knots[0], knots[-1]), max(knots[0], knots[-1])

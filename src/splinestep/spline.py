@@ -91,6 +91,7 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0,
     jerk = np.zeros(m)       # 6 d on the last interval
     z = np.empty(m)          # the unknown y''_{i+1} = 2 c_{i+1}
     work, lu, piv, info = step_state(m, np.max(slots) + 1)  # buffers, kept Newton matrices
+    sub = (np.empty(m), np.empty(m), np.empty(m))  # a composition's sub-step starts
     composed = weights.shape[0] > 1
     y_new = np.empty(m)
     yp_new = np.empty(m)
@@ -160,7 +161,8 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0,
             # A separate call: the sweep, the hot path, stays inlined and small.
             status, fe, je, it = composed_step(fun, args, jac, t, t_new, weights, slots, y, yp,
                                                ypp, z, y_new, yp_new, mode, n_iter,
-                                               until_converged, tol, reuse, work, lu, piv, info)
+                                               until_converged, tol, reuse, work, lu, piv, info,
+                                               sub)
         else:
             status, fe, je, it = sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new,
                                             n_iter, until_converged, tol, work)

@@ -371,15 +371,32 @@ def spline_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, mode, n
                        until_converged, tol, reuse, work, lu, piv, info, slot)
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _copy_state(y, yp, ypp, sub):
+    """(y, y', y'') into the three vectors of ``sub``."""
+    sub_y, sub_yp, sub_ypp = sub
+    for k in range(y.shape[0]):
+        sub_y[k] = y[k]
+        sub_yp[k] = yp[k]
+        sub_ypp[k] = ypp[k]
+
+
 @njit(cache=True, error_model="numpy")
 def composed_step(fun, args, jac, t, t_new, weights, slots, y, yp, ypp, z, y_new, yp_new, mode,
-                  n_iter, until_converged, tol, reuse, work, lu, piv, info):
+                  n_iter, until_converged, tol, reuse, work, lu, piv, info, sub):
     """The step from t to t_new = t + dt as spline steps of sizes
     weights[j] dt in turn (weights summing to 1; a single weight 1 is one
     spline step, the last sub-step ends at t_new exactly).
-    Sub-step j keeps its Newton matrix in slot ``slots[j]``.  Returns what
+    Sub-step j keeps its Newton matrix in slot ``slots[j]``; ``sub`` holds
+    three vectors for the start of each sub-step (the step's start is
+    copied there too: choosing between arrays per sub-step costs reference
+    counting).  Returns what
     :func:`spline_step` returns, summed; on success ``y_new``, ``yp_new``,
-    ``z`` hold the state at t + dt."""
+    ``z`` hold the state at t + dt.
+
+    The sub-steps' loop is written once per iteration mode: a loop whose
+    body chooses between the inlined sweep and the Newton call takes
+    about half again as long per evaluation (``make bench``)."""
     s = weights.shape[0]
     dt = t_new - t
     nfev = 0
@@ -387,25 +404,36 @@ def composed_step(fun, args, jac, t, t_new, weights, slots, y, yp, ypp, z, y_new
     niter = 0
     status = OK
     t_sub = t
-    start_y, start_yp, start_ypp = y, yp, ypp
-    for j in range(s):
-        t_next = t_new if j == s - 1 else t_sub + weights[j] * dt
-        if j > 0:   # later sub-steps start where the one before ended
-            start_y, start_yp, start_ypp = work[_SUB_Y], work[_SUB_YP], work[_SUB_YPP]
-            for k in range(y.shape[0]):
-                start_y[k] = y_new[k]
-                start_yp[k] = yp_new[k]
-                start_ypp[k] = z[k]
-        status, fe, je, it = spline_step(fun, args, jac, t_next, t_next - t_sub, start_y,
-                                         start_yp, start_ypp, z, y_new, yp_new, mode, n_iter,
-                                         until_converged, tol, reuse, work, lu, piv, info,
-                                         slots[j])
-        nfev += fe
-        njev += je
-        niter += it
-        if status != OK:
-            break
-        t_sub = t_next
+    sub_y, sub_yp, sub_ypp = sub
+    _copy_state(y, yp, ypp, sub)
+    if mode == FIXED_POINT:
+        for j in range(s):
+            t_next = t_new if j == s - 1 else t_sub + weights[j] * dt
+            if j > 0:
+                _copy_state(y_new, yp_new, z, sub)
+            status, fe, je, it = sweep_step(fun, args, t_next, t_next - t_sub, sub_y, sub_yp,
+                                            sub_ypp, z, y_new, yp_new, n_iter, until_converged,
+                                            tol, work)
+            nfev += fe
+            niter += it
+            if status != OK:
+                break
+            t_sub = t_next
+    else:
+        for j in range(s):
+            t_next = t_new if j == s - 1 else t_sub + weights[j] * dt
+            if j > 0:
+                _copy_state(y_new, yp_new, z, sub)
+            status, fe, je, it = newton_step(fun, args, jac, t_next, t_next - t_sub, sub_y,
+                                             sub_yp, sub_ypp, z, y_new, yp_new, n_iter,
+                                             until_converged, tol, reuse, work, lu, piv, info,
+                                             slots[j])
+            nfev += fe
+            njev += je
+            niter += it
+            if status != OK:
+                break
+            t_sub = t_next
     return status, nfev, njev, niter
 
 

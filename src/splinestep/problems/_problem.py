@@ -4,7 +4,6 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 # Tolerances of the scipy solve used where no exact solution exists.
 REFERENCE_RTOL = 1e-13
@@ -91,6 +90,7 @@ class Problem:
         def first_order(s, u):
             return np.concatenate([u[m:], f(s, u[:m], u[m:], *self.args)])
 
+        from scipy.integrate import solve_ivp   # here: scipy takes 0.3 s to import
         sol = solve_ivp(first_order, (self.t_span[0], t[-1]),
                         np.concatenate([self.y0, self.yp0]), method="DOP853",
                         t_eval=t, rtol=REFERENCE_RTOL, atol=REFERENCE_ATOL)

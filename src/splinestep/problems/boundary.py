@@ -16,11 +16,21 @@ References
 
 import numpy as np
 from numba import njit
-from scipy.optimize import brentq
 
-# theta / 4 at the fold, where the two branches meet: the root of
-# u tanh(u) = 1; lambda is largest there.
-_FOLD_U = brentq(lambda u: u * np.tanh(u) - 1.0, 0.5, 2.0)
+
+def _fold_u():
+    """theta / 4 at the fold, where the two branches meet: the root of
+    u tanh(u) = 1 (lambda is largest there), by Newton's method from 1.2."""
+    u = 1.2
+    for _ in range(20):
+        step = (u * np.tanh(u) - 1.0) / (np.tanh(u) + u / np.cosh(u) ** 2)
+        u -= step
+        if abs(step) <= 1e-16 * u:
+            break
+    return u
+
+
+_FOLD_U = _fold_u()
 LAMBDA_CRITICAL = 8.0 * _FOLD_U ** 2 / np.cosh(_FOLD_U) ** 2
 
 
@@ -37,6 +47,7 @@ def bratu_jac(x, y, yp, lam):
 def bratu_theta(lam, branch):
     """The root theta of theta = sqrt(2 lambda) cosh(theta/4) on ``branch``
     "lower" or "upper"."""
+    from scipy.optimize import brentq   # here: scipy.optimize takes 0.3 s to import
     lam = float(lam)
     if not 0 < lam < LAMBDA_CRITICAL:
         raise ValueError(f"lam must lie in (0, {LAMBDA_CRITICAL:.6f}), got {lam}")

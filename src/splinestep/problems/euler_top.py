@@ -16,7 +16,6 @@ not conserve the energy of eq. 19, whose reference is a tight scipy solve.
 
 import numpy as np
 from numba import njit
-from scipy.special import ellipj, ellipkinc
 
 from ._problem import Problem
 
@@ -103,6 +102,7 @@ def euler_top_exact(t, w0, moments=MOMENTS):
     s_a = np.sign(w0[a])
     s_b = np.sign(parity * (C - A) * s_a)
     phi0 = np.arctan2(w0[b] / (s_b * amp_b), w0[c] / amp_c)
+    from scipy.special import ellipj, ellipkinc   # here: scipy takes 0.3 s to import
     u0 = ellipkinc(phi0, m)
     sn, cn, dn, _ = ellipj(lam * t + u0, m)
     w = np.empty((3, t.size))

@@ -35,6 +35,15 @@ def kepler_rhs(t, y, yp, mu):
 
 
 @njit(cache=True)
+def density_control(t, y, yp, mu):
+    """G = -(3/2) x.x' / |x|^2 = -d/dt ln s for the step density s = r^(3/2):
+    the control of :func:`splinestep.solve_reversible` for Kepler orbits
+    (steps ~ r^(3/2), Hairer and Soderlind 2005), compiled, so that the
+    compiled loop calls it directly."""
+    return -1.5 * (y[0] * yp[0] + y[1] * yp[1]) / (y[0] * y[0] + y[1] * y[1])
+
+
+@njit(cache=True)
 def kepler_jac(t, y, yp, mu):
     """dF/dx = -mu / r^3 (I - 3 x x^T / r^2); dF/dx' = 0."""
     r2 = y[0] * y[0] + y[1] * y[1]
@@ -61,40 +70,73 @@ def energy_as_printed(y, yp):
     return energy(1.0)(y, yp)
 
 
+@njit(cache=True)
 def _stumpff(z):
     """Stumpff functions C(z) and S(z), with series near z = 0."""
-    z = np.asarray(z, dtype=float)
-    c = np.empty_like(z)
-    s = np.empty_like(z)
-    small = np.abs(z) < 1.0
-    pos = (z >= 1.0)
-    neg = (z <= -1.0)
-    zs = z[small]
-    term_c = np.full_like(zs, 0.5)
-    term_s = np.full_like(zs, 1.0 / 6.0)
-    sum_c, sum_s = term_c.copy(), term_s.copy()
-    for k in range(1, 12):  # C = sum (-z)^k/(2k+2)!, S = sum (-z)^k/(2k+3)!
-        term_c = term_c * (-zs) / ((2 * k + 1) * (2 * k + 2))
-        term_s = term_s * (-zs) / ((2 * k + 2) * (2 * k + 3))
-        sum_c += term_c
-        sum_s += term_s
-    c[small], s[small] = sum_c, sum_s
-    sq = np.sqrt(z[pos])
-    c[pos] = (1.0 - np.cos(sq)) / z[pos]
-    s[pos] = (sq - np.sin(sq)) / sq ** 3
-    sq = np.sqrt(-z[neg])
-    c[neg] = (np.cosh(sq) - 1.0) / (-z[neg])
-    s[neg] = (np.sinh(sq) - sq) / sq ** 3
-    return c, s
+    if abs(z) < 1.0:
+        term_c = 0.5
+        term_s = 1.0 / 6.0
+        sum_c, sum_s = term_c, term_s
+        for k in range(1, 12):  # C = sum (-z)^k/(2k+2)!, S = sum (-z)^k/(2k+3)!
+            term_c = term_c * (-z) / ((2 * k + 1) * (2 * k + 2))
+            term_s = term_s * (-z) / ((2 * k + 2) * (2 * k + 3))
+            sum_c += term_c
+            sum_s += term_s
+        return sum_c, sum_s
+    if z >= 1.0:
+        sq = np.sqrt(z)
+        return (1.0 - np.cos(sq)) / z, (sq - np.sin(sq)) / sq ** 3
+    sq = np.sqrt(-z)
+    return (np.cosh(sq) - 1.0) / (-z), (np.sinh(sq) - sq) / sq ** 3
+
+
+@njit(cache=True)
+def _universal_anomaly(t, rn, sigma, alpha, sqmu, r_peri):
+    """The universal anomaly chi at each time of ``t``: the root of the
+    universal Kepler equation F(chi) = 0 by Newton's method kept inside a
+    bracket (F is monotone in chi; a step that leaves the bracket bisects).
+    Returns chi and the Stumpff functions C and S of alpha chi^2; chi is
+    -1.0 where it did not converge in 200 iterations (the bracket makes that
+    impossible)."""
+    out = np.empty(t.shape[0])
+    out_c = np.empty(t.shape[0])
+    out_s = np.empty(t.shape[0])
+    for i in range(t.shape[0]):
+        lo = 0.0
+        # Periapsis distance bounds r from below, so F(chi) >= r_p chi - sqrt(mu) t.
+        hi = sqmu * t[i] / r_peri * (1.0 + 1e-9) + 1e-300
+        chi = sqmu * t[i] / rn if alpha <= 0 else min(sqmu * t[i] * alpha, hi)
+        chi = min(max(chi, lo), hi)
+        out[i] = -1.0
+        for _ in range(200):
+            z = alpha * chi * chi
+            c, s = _stumpff(z)
+            f = sigma * chi * chi * c + (1.0 - alpha * rn) * chi ** 3 * s + rn * chi - sqmu * t[i]
+            r = chi * chi * c + sigma * chi * (1.0 - z * s) + rn * (1.0 - z * c)
+            if f < 0:
+                lo = chi
+            if f > 0:
+                hi = chi
+            new = chi - f / r
+            if new <= lo or new >= hi:
+                new = 0.5 * (lo + hi)
+            done = abs(new - chi) <= 4e-16 * max(abs(chi), 1.0)
+            chi = new
+            if done:
+                out[i] = chi
+                break
+        out_c[i], out_s[i] = _stumpff(alpha * chi * chi)
+    return out, out_c, out_s
 
 
 def kepler_exact(t, mu, r0=LAUNCH_POSITION, v0=LAUNCH_VELOCITY):
     """Exact position and velocity of the Kepler orbit at times t >= 0.
 
     Solves the universal Kepler equation for the universal anomaly chi by a
-    bracketed Newton iteration (the equation is monotone in chi) and applies
-    the Lagrange f and g coefficients.  Valid for elliptic, parabolic and
-    hyperbolic orbits; accurate to about 1e-13 relative over the report's span.
+    bracketed Newton iteration (the equation is monotone in chi), compiled,
+    one time at a time, and applies the Lagrange f and g coefficients.
+    Valid for elliptic, parabolic and hyperbolic orbits; accurate to about
+    1e-13 relative over the report's span.
 
     Returns
     -------
@@ -109,38 +151,13 @@ def kepler_exact(t, mu, r0=LAUNCH_POSITION, v0=LAUNCH_VELOCITY):
     sqmu = np.sqrt(mu)
     sigma = r0 @ v0 / sqmu
     alpha = 2.0 / rn - v0 @ v0 / mu
-    # Periapsis distance bounds r from below, so F(chi) >= r_p chi - sqrt(mu) t.
     h = r0[0] * v0[1] - r0[1] * v0[0]
     ecc = np.hypot(*((v0 @ v0 - mu / rn) * r0 - (r0 @ v0) * v0)) / mu
     r_peri = h * h / mu / (1.0 + ecc)
-
-    def kepler(chi):
-        z = alpha * chi * chi
-        c, s = _stumpff(z)
-        f = sigma * chi * chi * c + (1.0 - alpha * rn) * chi ** 3 * s + rn * chi - sqmu * t
-        r = chi * chi * c + sigma * chi * (1.0 - z * s) + rn * (1.0 - z * c)
-        return f, r
-
-    lo = np.zeros_like(t)
-    hi = sqmu * t / r_peri * (1.0 + 1e-9) + 1e-300
-    chi = sqmu * t / rn if alpha <= 0 else np.minimum(sqmu * t * alpha, hi)
-    chi = np.clip(chi, lo, hi)
-    for _ in range(200):
-        f, r = kepler(chi)
-        lo = np.where(f < 0, chi, lo)
-        hi = np.where(f > 0, chi, hi)
-        step = f / r
-        new = chi - step
-        outside = (new <= lo) | (new >= hi)
-        new = np.where(outside, 0.5 * (lo + hi), new)
-        done = np.abs(new - chi) <= 4e-16 * np.maximum(np.abs(chi), 1.0)
-        chi = new
-        if np.all(done):
-            break
-    else:  # pragma: no cover - the bracket guarantees convergence
+    chi, c, s = _universal_anomaly(t, rn, sigma, alpha, sqmu, r_peri)
+    if np.any(chi < 0):  # pragma: no cover - the bracket guarantees convergence
         raise RuntimeError("universal Kepler equation did not converge")
     z = alpha * chi * chi
-    c, s = _stumpff(z)
     r = chi * chi * c + sigma * chi * (1.0 - z * s) + rn * (1.0 - z * c)
     f = 1.0 - chi * chi / rn * c
     g = t - chi ** 3 * s / sqmu
