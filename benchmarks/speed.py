@@ -14,12 +14,16 @@ Prints one table (and writes it into README.md between the markers
   (RK45, DOP853) on the same function;
 - process times: importing splinestep, the first solve of a new process
   with numba's disk cache warm and with it empty, numba's own first-call
-  cost, and the two commands' runs (notebooks two at a time; pytest with
-  two workers).
+  cost;
+- the two commands as a reader meets them: a fresh clone of the committed
+  state (``git clone`` of this repository), ``make reproduce`` (which
+  installs .venv from environment.txt, pip's download cache as it is, and
+  compiles the loops into an empty numba cache), then ``make test``, then
+  both again warm; with each notebook's time in each ``make reproduce``.
 
 Times are medians of several runs; ratios compare rows of the same run.
-``python benchmarks/speed.py --quick`` skips the notebooks and the test
-suite and leaves README.md alone.  Run with ``make bench``.
+``python benchmarks/speed.py --quick`` skips the two commands and leaves
+README.md alone.  Run with ``make bench``.
 """
 
 import os
@@ -38,6 +42,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 import splinestep
+from numba import njit
+
 from splinestep import problems
 
 HERE = Path(__file__).resolve().parent
@@ -66,8 +72,33 @@ def rigid_array(t, w, wp, i1, i2, i3, beta):
     return alpha * w - beta * wp
 
 
-CASES = {"kepler": (problems.cannonball(0.6), kepler_array),
-         "rigid": (problems.rigid_body("consistent"), rigid_array)}
+@njit(cache=True)
+def kepler_njit_array(t, y, yp, mu):
+    """problems.kepler.kepler_rhs's arithmetic, returning a new array (as
+    most compiled right-hand sides are written) instead of a tuple."""
+    r2 = y[0] * y[0] + y[1] * y[1]
+    w2 = mu / (r2 * np.sqrt(r2))
+    out = np.empty(2)
+    out[0] = -w2 * y[0]
+    out[1] = -w2 * y[1]
+    return out
+
+
+@njit(cache=True)
+def rigid_njit_array(t, w, wp, i1, i2, i3, beta):
+    """problems.euler_top.rigid_body_rhs's arithmetic, returning an array."""
+    out = np.empty(3)
+    out[0] = (w[2] ** 2 * (i2 - i3) * (i3 - i1) / (i1 * i2)
+              + w[1] ** 2 * (i2 - i3) * (i1 - i2) / (i1 * i3)) * w[0] - beta * wp[0]
+    out[1] = (w[0] ** 2 * (i3 - i1) * (i1 - i2) / (i2 * i3)
+              + w[2] ** 2 * (i2 - i3) * (i3 - i1) / (i2 * i1)) * w[1] - beta * wp[1]
+    out[2] = (w[1] ** 2 * (i1 - i2) * (i2 - i3) / (i3 * i1)
+              + w[0] ** 2 * (i1 - i2) * (i3 - i1) / (i3 * i2)) * w[2] - beta * wp[2]
+    return out
+
+
+CASES = {"kepler": (problems.cannonball(0.6), kepler_array, kepler_njit_array),
+         "rigid": (problems.rigid_body("consistent"), rigid_array, rigid_njit_array)}
 
 
 def median_time(run, repeats):
@@ -89,15 +120,15 @@ def compile_c():
     return exe
 
 
-def compiled_rows(name, problem, exe):
+def compiled_rows(name, problem, njit_array, exe):
     """(label, evaluations, seconds) of the compiled loops, and the C time
     per evaluation (None without a C compiler)."""
     span, args = problem.t_span, problem.args
     t_eval = np.linspace(*span, 1000)
     h = (span[1] - span[0]) / COMPILED_STEPS
 
-    def spline():
-        return splinestep.solve(problem.fun, span, problem.y0, problem.yp0, h, args=args,
+    def spline(fun=problem.fun):
+        return splinestep.solve(fun, span, problem.y0, problem.yp0, h, args=args,
                                 iterations=SWEEPS, t_eval=t_eval)
 
     def rk4():
@@ -108,7 +139,11 @@ def compiled_rows(name, problem, exe):
     rows = []
     for label, run in (
             ("splinestep spline, compiled", lambda: spline().nfev),
+            ("splinestep spline, compiled, fun returning an array",
+             lambda: spline(njit_array).nfev),
             ("splinestep rk4, compiled", lambda: rk4().nfev),
+            ("splinestep Verlet, compiled", lambda: splinestep.verlet(
+                problem.fun, span, problem.y0, problem.yp0, h, args=args, t_eval=t_eval).nfev),
             ("numba, C's arithmetic, fun through a pointer", lambda: pointer(
                 problem.fun, args, *span, COMPILED_STEPS, SWEEPS, problem.y0.copy(),
                 problem.yp0.copy())),
@@ -194,7 +229,7 @@ def new_process(code, env=None, path=()):
     return [float(v) for v in out.stdout.split()]
 
 
-def process_rows(quick):
+def process_rows():
     """(label, seconds) of process-level times."""
     rows = []
     warm = [new_process(FIRST_SOLVE) for _ in range(3)]
@@ -212,18 +247,6 @@ def process_rows(quick):
         _, cold_spline, cold_rk4 = new_process(FIRST_SOLVE, env={"NUMBA_CACHE_DIR": cache})
     rows.append(("first spline solve, cache empty (compiles)", cold_spline))
     rows.append(("first rk4 solve, cache empty (compiles)", cold_rk4))
-    if not quick:
-        import reproduce
-        with tempfile.TemporaryDirectory() as out:
-            start = time.perf_counter()
-            for script, _, error, _ in reproduce.execute_all(reproduce.NOTEBOOKS, Path(out)):
-                if error is not None:
-                    raise RuntimeError(f"{script.name} failed: {error}")
-            rows.append((f"all notebooks, {reproduce.JOBS} at a time (make reproduce)",
-                         time.perf_counter() - start))
-        start = time.perf_counter()
-        subprocess.run(["make", "-s", "test"], cwd=ROOT, check=True, capture_output=True)
-        rows.append(("test suite, 2 workers (make test)", time.perf_counter() - start))
     return rows
 
 
@@ -278,6 +301,37 @@ def thread_rows(repeats=3):
              f"{both / one_by_one:.2f}"]]
 
 
+NOTEBOOK_LINE = re.compile(r"^notebooks/(\S+)\.py:\s+([\d.]+) s$", re.M)
+
+
+def command_rows():
+    """The two commands on a fresh clone, cold then warm: rows (command,
+    seconds) and {notebook: [seconds in each make reproduce]}."""
+    env = {k: v for k, v in os.environ.items()
+           if not k.startswith(("NUMBA_", "SPLINESTEP_", "VIRTUAL_ENV"))}
+    runs = (("make reproduce, fresh clone: install, compile, run", "reproduce"),
+            ("make test, right after", "test"),
+            ("make reproduce, again (warm)", "reproduce"),
+            ("make test, again (warm)", "test"))
+    rows, notebooks = [], {}
+    with tempfile.TemporaryDirectory(prefix="splinestep-clone-") as folder:
+        clone = Path(folder) / "splinestep"
+        subprocess.run(["git", "clone", "--quiet", str(ROOT), str(clone)], check=True)
+        for label, target in runs:
+            start = time.perf_counter()
+            done = subprocess.run(["make", target], cwd=clone, env=env, capture_output=True,
+                                  text=True)
+            seconds = time.perf_counter() - start
+            if done.returncode:
+                raise RuntimeError(f"make {target} failed in the clone:\n{done.stdout[-3000:]}"
+                                   f"\n{done.stderr[-3000:]}")
+            rows.append((label, seconds))
+            for name, value in NOTEBOOK_LINE.findall(done.stdout):
+                notebooks.setdefault(name, []).append(float(value))
+    rows.insert(2, ("both, fresh clone", rows[0][1] + rows[1][1]))
+    return rows, notebooks
+
+
 def table(header, rows):
     lines = ["| " + " | ".join(header) + " |",
              "|" + "|".join("---:" if i else "---" for i in range(len(header))) + "|"]
@@ -292,8 +346,8 @@ def main(quick=False):
     lines = [f"Measured by `make bench` on {machine}.", ""]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # short compile runs are flagged, rightly
-        for name, (problem, array_fun) in CASES.items():
-            compiled, c_per_eval = compiled_rows(name, problem, exe)
+        for name, (problem, array_fun, njit_array) in CASES.items():
+            compiled, c_per_eval = compiled_rows(name, problem, njit_array, exe)
             plain = plain_rows(problem, array_fun)
             rk45 = next(s / n for label, n, s in plain if label.startswith("scipy RK45"))
             rows = []
@@ -315,8 +369,18 @@ def main(quick=False):
     lines += table(["solve", "time", "ratio to the first of its pair"],
                    whole_trajectory_rows() + thread_rows())
     lines.append("")
-    process = process_rows(quick)
+    process = process_rows()
     lines += table(["process", "seconds"], [[label, f"{s:.2f}"] for label, s in process])
+    if not quick:
+        commands, notebooks = command_rows()
+        lines += ["", "**The two commands** on a fresh clone of the committed state "
+                  "(pip's download cache as it was)", ""]
+        lines += table(["command", "seconds"], [[label, f"{s:.0f}"] for label, s in commands])
+        lines += ["", "**Each notebook** in `make reproduce` (two at a time; the claims "
+                  "notebook from the moment the others are done)", ""]
+        lines += table(["notebook", "fresh clone (compiles), s", "warm, s"],
+                       [[name, *(f"{v:.1f}" for v in values)]
+                        for name, values in sorted(notebooks.items())])
     text = "\n".join(lines)
     print(text)
     if not quick:
