@@ -397,7 +397,7 @@ headline = [
 ]
 headline = pd.DataFrame(headline, columns=["name", "value", "text"])
 outputs.save_data(headline, "headline-numbers")
-print(headline.to_string(index=False))
+print(headline[["name", "text"]].to_string(index=False))  # values: data/headline-numbers.csv
 
 # %% [markdown]
 # ## Errata

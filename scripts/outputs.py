@@ -58,10 +58,10 @@ def plain_power_label(label):
     if not match:
         return label
     body = match.group(1).replace("\\times", "\u00d7")
-    body = re.sub(r"\^\{([^}]*)\}|\^(-?\d+)",
+    body = re.sub(r"\^\{(-?\d+)\}|\^(-?\d+)",
                   lambda m: (m.group(1) or m.group(2)).translate(_SUPERSCRIPTS), body)
-    if "\\" in body or "{" in body:
-        return label   # anything else stays mathtext
+    if not re.fullmatch(r"-?[\d.]*(\u00d7)?(10|2|e)?[\u2070-\u209f\u00b9\u00b2\u00b3]*", body):
+        return label   # anything but an integer power stays mathtext
     return body.replace("-", "\u2212")
 
 

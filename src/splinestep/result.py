@@ -7,9 +7,10 @@ from numba.extending import register_jitable
 
 class OdeResult(dict):
     """Result of an integration, in the style of scipy's ``OdeResult``: a
-    dict whose keys are also attributes.  (Not scipy's class itself:
-    importing scipy.optimize would add a third of a second to importing
-    the package.)
+    dict whose keys are also attributes.  (Not scipy's class itself, so
+    not an instance of ``scipy.optimize.OptimizeResult``, and its repr
+    lists ``repr`` of each value: importing scipy.optimize would add a
+    third of a second to importing the package.)
 
     Attributes
     ----------

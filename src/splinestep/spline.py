@@ -27,7 +27,7 @@ from .events import check_events, locate
 from ._base import BAD_SHAPE, NON_FINITE, OK, as_vector, wrong_length
 from .result import HermiteSolution, SplineSolution
 from .step import (FIXED_POINT, NEWTON, YP_WEIGHT, Y_WEIGHT, composed_step, local_errors,
-                   quintic, step_state, sweep_step)
+                   newton_call, quintic, step_state, sweep_step)
 
 ITERATIONS = ("fixed-point", "newton", "global")
 
@@ -157,15 +157,18 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0,
         else:
             t_new = tf
         dt = t_new - t
-        if composed or mode != FIXED_POINT:
-            # A separate call: the sweep, the hot path, stays inlined and small.
+        if composed:
             status, fe, je, it = composed_step(fun, args, jac, t, t_new, weights, slots, y, yp,
                                                ypp, z, y_new, yp_new, mode, n_iter,
                                                until_converged, tol, reuse, work, lu, piv, info,
                                                sub)
-        else:
+        elif mode == FIXED_POINT:   # the hot path, inlined
             status, fe, je, it = sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new,
                                             n_iter, until_converged, tol, work)
+        else:
+            status, fe, je, it = newton_call(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new,
+                                             yp_new, n_iter, until_converged, tol, reuse, work,
+                                             lu, piv, info, 0)
         nfev += fe
         njev += je
         niter += it

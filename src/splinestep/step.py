@@ -251,7 +251,7 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter, until
     return status, nfev, 0, niter
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
                 until_converged, tol, reuse, work, lu, piv, info, slot):
     """One step by simplified Newton on R(z) = z - F(t_new, y_new(z),
@@ -260,10 +260,11 @@ def newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
     The step keeps its Newton matrix in ``slot`` and rebuilds it at every
     iteration when not ``reuse``.  A step that fails with a kept matrix is
     tried again from the start with the matrix rebuilt at every iteration,
-    so reusing it never loses a step that full Newton would solve.  Not
-    inlined: a Newton step costs at least an evaluation and a solve, and
-    its code, inlined beside the sweep, slows the sweep down (``make
-    bench``)."""
+    so reusing it never loses a step that full Newton would solve.
+
+    Inlined into :func:`composed_step`, which the uniform driver calls for
+    Newton steps: its code inlined beside the sweep in the driver's own
+    loop slows the sweep down by about a third (``make bench``)."""
     m = y.shape[0]
     wy = Y_WEIGHT * dt * dt
     wyp = YP_WEIGHT * dt
@@ -273,6 +274,8 @@ def newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
     niter = 0
     status = OK
     kept = reuse
+    # Views made once per step, not per iteration (each costs reference counting).
+    dz, lu_slot, piv_slot = work[_RESIDUAL], lu[slot], piv[slot]
     for attempt in range(2):
         _start(dt, y, yp, ypp, z, work)
         status = NOT_CONVERGED if until_converged else OK
@@ -303,15 +306,14 @@ def newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
                 for k in range(m):
                     work[_G, k] = g[k]
                 fe, je = _build_matrix(fun, args, jac, t_new, dt, work[_BASE_Y], work[_BASE_YP],
-                                       z, work[_G], y_new, yp_new, lu[slot], piv[slot],
+                                       z, work[_G], y_new, yp_new, lu_slot, piv_slot,
                                        info[slot])
                 nfev += fe
                 njev += je
                 fresh = True
-            dz = work[_RESIDUAL]
             for k in range(m):
                 dz[k] = g[k] - z[k]
-            lu_solve(lu[slot], piv[slot], dz)
+            lu_solve(lu_slot, piv_slot, dz)
             bad = False
             for k in range(m):
                 if not abs(dz[k]) < np.inf:
@@ -342,6 +344,15 @@ def newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
             break
         kept = False   # the kept matrix failed this step: redo it with full Newton
     return status, nfev, njev, niter
+
+
+@njit(cache=True, error_model="numpy")
+def newton_call(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
+                until_converged, tol, reuse, work, lu, piv, info, slot):
+    """:func:`newton_step` as a call, not inlined: the uniform driver's
+    Newton steps, kept out of the code of its inlined sweep."""
+    return newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
+                       until_converged, tol, reuse, work, lu, piv, info, slot)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -395,8 +406,8 @@ def composed_step(fun, args, jac, t, t_new, weights, slots, y, yp, ypp, z, y_new
     ``z`` hold the state at t + dt.
 
     The sub-steps' loop is written once per iteration mode: a loop whose
-    body chooses between the inlined sweep and the Newton call takes
-    about half again as long per evaluation (``make bench``)."""
+    body chooses between the two takes about 1.3 times as long per
+    evaluation (``make bench``)."""
     s = weights.shape[0]
     dt = t_new - t
     nfev = 0

@@ -141,8 +141,9 @@ def kepler_exact(t, mu, r0=LAUNCH_POSITION, v0=LAUNCH_VELOCITY):
     Returns
     -------
     x, v : ndarray, shape (2, k)
+        At the k = t.size times of ``t``, flattened.
     """
-    t = np.atleast_1d(np.asarray(t, dtype=float))
+    t = np.atleast_1d(np.asarray(t, dtype=float)).ravel()
     if np.any(t < 0):
         raise ValueError("t must be non-negative")
     r0 = np.asarray(r0, dtype=float)
