@@ -112,16 +112,16 @@ def solve_linear(a, b):
 
 
 # Rows of the work array a step uses (allocated once per run, not per step).
-_BASE_Y, _BASE_YP, _G, _RESIDUAL, _SUB_Y, _SUB_YP, _SUB_YPP = range(7)
+_BASE_Y, _BASE_YP, _G, _RESIDUAL = range(4)
 
 
 @njit(cache=True)
 def step_state(m, slots):
-    """What a driver allocates once for its steps: a work array (7, m) and
+    """What a driver allocates once for its steps: a work array (4, m) and
     the kept Newton matrices, one per distinct sub-step of a composition:
     LU factors (slots, m, m), pivots (slots, m) and, per slot, [built?, the
     step it was built for]."""
-    return (np.empty((7, m)), np.zeros((slots, m, m)), np.zeros((slots, m), dtype=np.int64),
+    return (np.empty((4, m)), np.zeros((slots, m, m)), np.zeros((slots, m), dtype=np.int64),
             np.zeros((slots, 2)))
 
 
