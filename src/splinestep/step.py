@@ -178,6 +178,30 @@ def _start(dt, y, yp, ypp, z, work):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _trial(wy, wyp, z, y_new, yp_new, work):
+    """y_new and y'_new for the iterate z; returns the size of the state
+    (max norm), infinite when an iterate overflowed."""
+    size = 0.0
+    for k in range(z.shape[0]):
+        y_new[k] = work[_BASE_Y, k] + wy * z[k]
+        yp_new[k] = work[_BASE_YP, k] + wyp * z[k]
+        size = max(size, abs(y_new[k]), abs(yp_new[k]))
+    return size
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _value_status(g, m):
+    """OK, or BAD_SHAPE / NON_FINITE for a value g of F."""
+    if wrong_length(g, m):
+        return BAD_SHAPE
+    bad = False
+    for k in range(m):
+        if not abs(g[k]) < np.inf:
+            bad = True
+    return NON_FINITE if bad else OK
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _finish(dt, z, y_new, yp_new, work):
     """y_new and y'_new from the final z; OK, or NON_FINITE if either
     overflowed."""
@@ -212,11 +236,7 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter, until
     nfev = 0
     niter = 0
     for _ in range(n_iter):
-        size = 0.0
-        for k in range(m):
-            y_new[k] = work[_BASE_Y, k] + wy * z[k]
-            yp_new[k] = work[_BASE_YP, k] + wyp * z[k]
-            size = max(size, abs(y_new[k]), abs(yp_new[k]))
+        size = _trial(wy, wyp, z, y_new, yp_new, work)
         if not size < np.inf:
             # A diverging sweep overflows; an infinite size would pass the
             # relative convergence test below.
@@ -224,16 +244,10 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter, until
             break
         g = as_vector(fun(t_new, y_new, yp_new, *args))
         nfev += 1
-        if wrong_length(g, m):
-            status = BAD_SHAPE
+        status = _value_status(g, m)
+        if status != OK:
             break
-        bad = False
-        for k in range(m):
-            if not abs(g[k]) < np.inf:
-                bad = True
-        if bad:
-            status = NON_FINITE
-            break
+        status = NOT_CONVERGED if until_converged else OK
         niter += 1
         if until_converged:
             change = 0.0
@@ -284,24 +298,16 @@ def newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
         fresh = False        # the matrix was built during this step
         last_change = np.inf
         for _ in range(n_iter):
-            size = 0.0
-            for k in range(m):
-                y_new[k] = work[_BASE_Y, k] + wy * z[k]
-                yp_new[k] = work[_BASE_YP, k] + wyp * z[k]
-                size = max(size, abs(y_new[k]), abs(yp_new[k]))
+            size = _trial(wy, wyp, z, y_new, yp_new, work)
             if not size < np.inf:
                 status = DIVERGED
                 break
             g = as_vector(fun(t_new, y_new, yp_new, *args))
             nfev += 1
-            if wrong_length(g, m):
-                status = BAD_SHAPE
+            status = _value_status(g, m)
+            if status != OK:
                 break
-            for k in range(m):
-                if not abs(g[k]) < np.inf:
-                    status = NON_FINITE
-            if status == NON_FINITE:
-                break
+            status = NOT_CONVERGED if until_converged else OK
             if info[slot, 0] == 0.0:
                 for k in range(m):
                     work[_G, k] = g[k]
