@@ -72,11 +72,15 @@ outputs.say(
 #
 # $$\rho = 1, \qquad \cos\Omega h = 1 - \frac{x^2}{2 + x^2/3}, \qquad x = \omega h,$$
 #
-# for $x \le \sqrt{12}$; beyond, the eigenvalues are real and one exceeds 1.
-# So below the limit the method neither damps nor amplifies, and it lags
+# for $x < \sqrt{12}$.  At $x = \sqrt{12}$ the two eigenvalues meet at $-1$ in
+# a Jordan block and the solution grows linearly with the number of steps
+# (notebook 06, section 3); beyond, the eigenvalues are real and one exceeds 1
+# in modulus.  So below the limit the method neither damps nor amplifies, and it lags
 # in phase: each step turns the solution by $\Omega h$ instead of
 # $\omega h$, so that its period $T_h = 2\pi h/(\Omega h)$ is longer than the
-# true one, $T$: the period error is $T_h / T - 1 = x/(\Omega h) - 1 = x^2/24 + O(x^4)$.
+# true one, $T$: the relative period error is
+# $T_h / T - 1 = x/(\Omega h) - 1 = x^2/24 + O(x^4)$, and the phase lost per
+# period is $2\pi(1 - T/T_h) = 2\pi x^2/24 + O(x^4)$.
 # RK4 on the same problem has $\rho = |R(ix)| = \sqrt{1 - x^6/72 + x^8/576}$:
 # it damps for $x < 2\sqrt 2$ and amplifies beyond.
 #
@@ -115,7 +119,8 @@ print(f"runs warned 'step too large': {len(flagged)} of {len(phase)}, "
       f"omega h from {flagged.omega_h.min():.3f} on")
 outputs.say(
     f"These runs go up to the stability limit on purpose, and each run also estimates its own "
-    f"local error from the jumps of the spline's third derivative ($h^4 y''''/24$, "
+    f"local error from the jumps of the spline's third derivative ($h^4 y''''/24$ to leading "
+    f"order, "
     f"`splinestep.check`).  From $\\omega h = {flagged.omega_h.min():.2f}$ on "
     f"({len(flagged)} of the {len(phase)} runs) that estimate exceeds a tenth of the amplitude, "
     f"and the run warns that the step is too large for the solution; the warnings are "
@@ -162,7 +167,8 @@ outputs.save_figure(fig, "method-phase-error")
 
 # %% [markdown]
 # The measured periods follow the closed form to rounding error, the
-# spline's amplitude factor is 1 up to the stability limit, and the same
+# spline's amplitude factor is 1 at every sampled $\omega h$ (all below the
+# stability limit $\sqrt{12}$), and the same
 # metric finds RK4's damping (below $2\sqrt2 \approx 2.83$) and growth
 # (above) where its closed form puts them.  This explains what the report
 # found:
@@ -174,8 +180,8 @@ outputs.save_figure(fig, "method-phase-error")
 #   $y'' = -\nabla V(y)$, Newmark's method with $\gamma = 1/2$ is symplectic
 #   for a modified symplectic form (Kane, Marsden, Ortiz & West 2000), so
 #   the energy error stays bounded and oscillates with the orbit
-#   (`02_cannonball`), while the phase error, $x^2/24$ per period, grows
-#   linearly, and so does the position error.  The report's rigid body in
+#   (`02_cannonball`), while the phase, lagging by $2\pi x^2/24$ per period
+#   to leading order, drifts linearly, and so does the position error.  The report's rigid body in
 #   its second-order form is not of that form, and there the energy error
 #   does grow (`03_rigid_body`): the bounded error is a property of the
 #   method on conservative problems, not on every problem;
@@ -189,4 +195,7 @@ outputs.save_figure(fig, "method-phase-error")
 #   orders as the local errors themselves.  Only the error constant
 #   changes, so one sweep keeps order 2 in both cases (the fixed-sweep
 #   method is an explicit predictor-corrector of order 2); "a few times"
-#   only changes the constant.
+#   only changes the constant.  Over long runs one sweep is another method:
+#   the predictor-corrector is not symmetric, and on the cannonball its
+#   energy error drifts linearly where the converged step's stays bounded
+#   (notebook 06, section 6).

@@ -305,9 +305,10 @@ outputs.say(
 # symmetric in time.  Hairer and Soderlind (2005) restore it: the step is
 # $\varepsilon/\rho$, with the control variable $\rho$ updated by a
 # leapfrog recursion $\rho_{n+1/2} = \rho_{n-1/2} + \varepsilon G(y_n)$,
-# $G = -\tfrac{d}{dt}\ln s$ for a step density $s$; here $s = r^{3/2}$,
+# $G = -\tfrac{d}{dt}\ln s$ for a step-size function $s$ (the steps are
+# proportional to $s$, their density to $1/s$); here $s = r^{3/2}$,
 # $G = -\tfrac32\, q\cdot q'/|q|^2$ (`splinestep.solve_reversible`, with the compiled
-# `problems.density_control`).  Step and
+# `problems.step_size_control`).  Step and
 # recursion are symmetric, so the whole method is.  The energy error at each
 # apoapsis over 300 orbits of the $e = 0.9$ orbit:
 
@@ -321,7 +322,7 @@ e0 = energy(long_orbit.y0[:, None], long_orbit.yp0[:, None])[0]
 
 EPS = 1e-2
 reversible = splinestep.solve_reversible(long_orbit.fun, long_orbit.t_span, long_orbit.y0,
-                                         long_orbit.yp0, EPS, problems.density_control,
+                                         long_orbit.yp0, EPS, problems.step_size_control,
                                          args=long_orbit.args)
 controlled = long_orbit.solve(h="adaptive", rtol=1e-6, atol=1e-9, dense_output=True)
 long_rows = []
@@ -366,8 +367,8 @@ outputs.say(
     f"{outputs.sci(rev_err.max() - rev_err.min(), 1)}) at {reversible.nfev / ORBITS:.0f} "
     f"evaluations per orbit; the error-controlled knots, at {controlled.nfev / ORBITS:.0f}, "
     f"wander from {outputs.sci(ctl_err[0], 1)} to {outputs.sci(ctl_err[-30:].max(), 1)}.  For long runs of a conservative problem, the "
-    f"reversible steps are the adaptive method to use; the price is choosing the step "
-    f"density $s$ by hand.  The figure plots $|H - H_0|$ on a log axis: the error-controlled "
+    f"reversible steps are the adaptive method to use; the price is choosing the "
+    f"step-size function $s$ by hand.  The figure plots $|H - H_0|$ on a log axis: the error-controlled "
     f"run's {len(dips)} deep dips {'all' if len(beside_change) == len(dips) else 'not all'} "
     f"lie where $H - H_0$ changes sign "
     f"({len(beside_change)} of {len(dips)}), not at orbits of exceptional accuracy.")
@@ -454,7 +455,8 @@ outputs.say(
 # %% [markdown]
 # ### Long time, and the cost against the other routes
 # The ellipse over 10,000 orbits, sampled over whole orbits at
-# logarithmically spaced orbit numbers as in notebook 06, at $h = 0.08$ (the
+# logarithmically spaced orbit numbers and at each method's own steps, as in
+# notebook 06, at $h = 0.08$ (the
 # largest step of the work-precision panel below): the report's method, the
 # order-4 composition, and RK4 at the composition's work (its step stretched
 # to spend the same evaluations); energy error and position error against
@@ -467,24 +469,29 @@ outputs.say(
 period_ellipse = problems.orbit_elements(0.6)["period"]
 LONG_ORBITS = 10_000
 windows = np.unique(np.round(np.logspace(0, np.log10(LONG_ORBITS), 17)).astype(int)) - 1
-samples = ((windows[:, None] + np.arange(64)[None, :] / 64) * period_ellipse).ravel()
-exact_samples, _ = ellipse.reference(samples)
+# 64 sample times per sampled orbit, half a sample from its ends; each run is
+# sampled at the nearest of its own steps (never on the interpolant between).
+wanted = ((windows[:, None] + (np.arange(64)[None, :] + 0.5) / 64) * period_ellipse).ravel()
+t_long = LONG_ORBITS * period_ellipse
 energy_ellipse = ellipse.invariants["energy"]
 LONG_STEP = 0.08
-long_runs = {}
+long_runs, long_steps = {}, {}
 for order in (2, 4):
+    long_steps[f"spline, order {order}"] = LONG_STEP
     long_runs[f"spline, order {order}"] = splinestep.solve(
-        ellipse.fun, (0.0, samples[-1]), ellipse.y0, ellipse.yp0, LONG_STEP, args=ellipse.args,
-        order=order, t_eval=samples)
-per_step_4 = long_runs["spline, order 4"].nfev / (samples[-1] / LONG_STEP)
-long_runs["RK4, same work"] = splinestep.rk4(ellipse.fun, (0.0, samples[-1]), ellipse.y0,
-                                             ellipse.yp0, 4 * LONG_STEP / per_step_4,
-                                             args=ellipse.args, t_eval=samples)
+        ellipse.fun, (0.0, t_long), ellipse.y0, ellipse.yp0, LONG_STEP, args=ellipse.args,
+        order=order, t_eval=LONG_STEP * np.round(wanted / LONG_STEP))
+per_step_4 = long_runs["spline, order 4"].nfev / (t_long / LONG_STEP)
+long_steps["RK4, same work"] = 4 * LONG_STEP / per_step_4
+long_runs["RK4, same work"] = splinestep.rk4(
+    ellipse.fun, (0.0, t_long), ellipse.y0, ellipse.yp0, long_steps["RK4, same work"],
+    args=ellipse.args,
+    t_eval=long_steps["RK4, same work"] * np.round(wanted / long_steps["RK4, same work"]))
 long_energy = []
 for method, res in long_runs.items():
     windowed = {
         "energy_error": np.abs(energy_ellipse(res.y, res.yp) - (0.5 - 0.6)),
-        "position_error": np.max(np.abs(res.y - exact_samples), axis=0)}
+        "position_error": np.max(np.abs(res.y - ellipse.reference(res.t)[0]), axis=0)}
     long_energy.append(pd.DataFrame(dict(method=method, orbit=windows + 1, nfev=res.nfev,
                                          **{k: v.reshape(windows.size, 64).max(axis=1)
                                             for k, v in windowed.items()})))
@@ -494,27 +501,27 @@ growth = {m: g.set_index("orbit") for m, g in long_energy.groupby("method", sort
 for method, g in growth.items():
     tail = g[g.index >= 10]
     exponent = np.polyfit(np.log(tail.index), np.log(tail.energy_error), 1)[0]
-    print(f"{method:<16} {g.nfev.iloc[0] / samples[-1] * period_ellipse:6.0f} evaluations per "
+    print(f"{method:<16} {g.nfev.iloc[0] / LONG_ORBITS:6.0f} evaluations per "
           f"orbit; energy error {outputs.sci(g.energy_error.iloc[0])} in the first orbit, "
           f"{outputs.sci(g.energy_error.iloc[-1])} in orbit {LONG_ORBITS} (growth exponent "
           f"{exponent:+.2f}); position error {outputs.sci(g.position_error.iloc[0])}, "
           f"{outputs.sci(g.position_error.loc[100])} in orbit 100, "
           f"{outputs.sci(g.position_error.iloc[-1])} in orbit {LONG_ORBITS}")
 # The orbit from which RK4's energy error exceeds the composition's largest,
-# two ways: on the sampled curve (log-log), and from a power law fitted to
-# RK4's error from orbit 10 on.
+# two ways: on the sampled curve (log-log), and from the line a + c (k - 1)
+# fitted to RK4's error in orbit k (it drifts linearly from the first orbit).
 level_4 = growth["spline, order 4"].energy_error.max()
 rk4_long = growth["RK4, same work"]
 above = np.flatnonzero(rk4_long.energy_error.to_numpy() > level_4)
 crossing_sampled = (diagnostics.loglog_interp(
     rk4_long.energy_error.iloc[above[0] - 1:above[0] + 1],
     rk4_long.index[above[0] - 1:above[0] + 1], [level_4])[0] if above.size else np.nan)
-fit = np.polyfit(np.log(rk4_long.index[rk4_long.index >= 10]),
-                 np.log(rk4_long.energy_error[rk4_long.index >= 10]), 1)
-crossing_fitted = np.exp((np.log(level_4) - fit[1]) / fit[0])
-print(f"RK4's energy error exceeds the order-4 composition's largest "
-      f"({outputs.sci(level_4)}) from orbit {crossing_sampled:.0f} (sampled curve) or "
-      f"{crossing_fitted:.0f} (fitted power law)")
+rk4_drift, rk4_start = np.polyfit(rk4_long.index - 1, rk4_long.energy_error, 1)
+crossing_fitted = 1 + (level_4 - rk4_start) / rk4_drift
+print(f"RK4, same work: energy error {rk4_start:.3e} + {rk4_drift:.3e} (orbit - 1); it "
+      f"exceeds the order-4 composition's largest ({outputs.sci(level_4, 3)}) from orbit "
+      f"{outputs.round_sig(crossing_sampled, 3):.0f} (sampled curve) or "
+      f"{outputs.round_sig(crossing_fitted, 3):.0f} (fitted line)")
 position_ratio = (rk4_long.position_error / growth["spline, order 4"].position_error)
 
 # %%
@@ -591,8 +598,9 @@ outputs.say(
     f"The order-4 composition keeps the bounded energy error of the report's method over "
     f"10,000 orbits, at a level {outputs.sci(growth['spline, order 2'].energy_error.max() / level_4)} "
     f"times lower.  RK4 at the same work starts far lower and drifts, and passes the "
-    f"composition's level only from orbit {crossing_sampled:,.0f} (a power law fitted to "
-    f"its drift: {crossing_fitted:,.0f}); at orbit {LONG_ORBITS:,} it is "
+    f"composition's level only from orbit {outputs.round_sig(crossing_sampled, 3):,.0f} (the "
+    f"line fitted to its linear drift: {outputs.round_sig(crossing_fitted, 3):,.0f}); at orbit "
+    f"{LONG_ORBITS:,} it is "
     f"{rk4_long.energy_error.iloc[-1] / level_4:.1f} times the composition's.  The position "
     f"error, which is what a user of the orbit sees, favours RK4: at the same work it is "
     f"{outputs.sci(1 / position_ratio.iloc[0])} times smaller in the first orbit and "

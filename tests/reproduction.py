@@ -132,8 +132,8 @@ COLUMNS = {
                                  modified_momentum_error="rounding"),
     "long-time-drift": dict(orbits="exact", evaluations_per_orbit="exact",
                             energy_exponent="slope",
-                            energy_drift_per_orbit="error", final_energy_error="error",
-                            momentum_exponent="slope", momentum_drift_per_orbit="error",
+                            energy_drift_per_orbit="error", energy_error_start="error",
+                            final_energy_error="error", momentum_exponent="slope", momentum_drift_per_orbit="error",
                             final_momentum_error="error"),
     # Phase drift per orbit over 200 orbits, two ways; errors of a fixed-step run.
     "phase-drift": dict(drift_from_angle="error", drift_from_passages="error",
@@ -204,6 +204,7 @@ ADAPTIVE_LONG_ROWS = {
                         dict(energy_exponent="adaptive-long-exponent",
                              evaluations_per_orbit="adaptive",
                              energy_drift_per_orbit="adaptive-long",
+                             energy_error_start="adaptive-long",
                              final_energy_error="adaptive-long",
                              momentum_exponent="adaptive-long-exponent",
                              momentum_drift_per_orbit="adaptive-long",

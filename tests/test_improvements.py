@@ -18,18 +18,18 @@ HS4 = np.array([0.08, 0.04, 0.02, 0.01])
 
 
 def kepler_control(t, y, yp, mu):
-    """-d/dt ln r^(3/2), written independently of problems.density_control."""
+    """-d/dt ln r^(3/2), written independently of problems.step_size_control."""
     return -1.5 * np.dot(y, yp) / np.dot(y, y)
 
 
-def test_density_control_is_minus_the_log_derivative_of_r_to_three_halves():
+def test_step_size_control_is_minus_the_log_derivative_of_r_to_three_halves():
     """G = -d/dt ln r^(3/2) along the exact orbit, by a centred difference."""
     t = np.linspace(1.0, 30.0, 7)
     x, v = problems.kepler_exact(t, 0.6)
     d = 1e-5
     log_s = [1.5 * np.log(np.hypot(*problems.kepler_exact(t + s, 0.6)[0])) for s in (d, -d)]
     expected = -(log_s[0] - log_s[1]) / (2 * d)
-    got = [problems.density_control(tk, x[:, k], v[:, k], 0.6) for k, tk in enumerate(t)]
+    got = [problems.step_size_control(tk, x[:, k], v[:, k], 0.6) for k, tk in enumerate(t)]
     assert np.allclose(got, expected, rtol=1e-8, atol=1e-10)
     assert np.allclose(got, [kepler_control(tk, x[:, k], v[:, k], 0.6)
                              for k, tk in enumerate(t)], rtol=1e-14, atol=0)
@@ -342,7 +342,7 @@ def test_reversible_steps_keep_the_energy_bounded_and_retrace():
     def at_apoapsis(res):
         return np.abs(energy(res.sol(apoapsis), res.sol(apoapsis, 1)) - e0)
     rev = splinestep.solve_reversible(problem.fun, problem.t_span, problem.y0, problem.yp0,
-                                      4e-3, problems.density_control, args=problem.args)
+                                      4e-3, problems.step_size_control, args=problem.args)
     adaptive = problem.solve(h="adaptive", rtol=1e-6, atol=1e-9, dense_output=True)
     assert rev.success and adaptive.success
     # Comparable work: the reversible run takes no more evaluations than 3x.
@@ -354,10 +354,10 @@ def test_reversible_steps_keep_the_energy_bounded_and_retrace():
     # Backwards from a knot in the middle, with the forward run's rho there:
     # the same knots, in reverse.
     k = int(np.searchsorted(rev.t, 10.3 * period))   # 10 orbits back, to rounding
-    rho_k = rev.rho[k - 1] + 0.5 * 4e-3 * problems.density_control(rev.t[k], rev.y[:, k],
+    rho_k = rev.rho[k - 1] + 0.5 * 4e-3 * problems.step_size_control(rev.t[k], rev.y[:, k],
                                                                  rev.yp[:, k], 1.0)
     back = splinestep.solve_reversible(problem.fun, (rev.t[k], 0.0), rev.y[:, k], rev.yp[:, k],
-                                       4e-3, problems.density_control, rho0=rho_k,
+                                       4e-3, problems.step_size_control, rho0=rho_k,
                                        args=problem.args)
     assert back.success and back.nstep in (k, k + 1)
     # Rounding and the step's iteration tolerance (1e-12) over 2e4 steps of

@@ -51,9 +51,11 @@ def test_a_wrong_answer_is_flagged(case):
 
 
 def test_stability_limit_is_where_the_linear_analysis_puts_it():
-    """The linearised-step check fires on y'' = -omega^2 y just past
-    omega h = sqrt(12), not just below it."""
-    for x, fires in ((3.45, False), (3.48, True)):
+    """The linearised-step check fires on y'' = -omega^2 y past omega h =
+    sqrt(12), from 3.4641029 on (where the spectral radius reaches 1 +
+    GROWTH_MARGIN, splinestep/check.py), and not at or below sqrt(12)."""
+    for x, fires in ((3.45, False), (math.sqrt(12), False), (3.4641025, False),
+                     (3.4641035, True), (3.48, True)):
         rho, exact = check.growth(np.array([[-1.0]]), np.array([[0.0]]), x, 1 / 6, 1 / 2)
         assert (rho > exact * (1 + check.GROWTH_MARGIN)) == fires
     # Against the closed form of the amplification factor: eigenvalues of

@@ -116,7 +116,7 @@ def test_unstable_beyond_sqrt12():
 
 def test_fixed_point_diverges_beyond_sqrt6_where_newton_converges():
     """The sweep multiplies the error by -(w h)^2 / 6: it diverges for
-    w h > sqrt(6) although the method itself is stable up to sqrt(12)."""
+    w h > sqrt(6) although the method itself is stable for w h < sqrt(12)."""
     x = 2.6
     problem = problems.harmonic(x / 0.1, t_span=(0, 5), h=0.1)
     fixed = problem.solve("spline", iteration="fixed-point")

@@ -215,7 +215,8 @@ def test_energy_error_is_the_modified_energy_correction_and_does_not_drift():
     factors of order one on this orbit, so the prediction must hold to 10 h^2
     of the error (a wrong coefficient or sign leaves an error of its own size).
     And the largest error in the last of 300 orbits equals that in the first
-    to 5 %: a drift like RK4's (error ~ orbits^0.85) would multiply it by 100."""
+    to 5 %: a drift like RK4's at equal work (linear, 1.5e-10 + 1.6e-11 (k - 1) in
+    orbit k) would multiply it by 30."""
     from splinestep.problems import kepler
     mu, h = 0.6, 0.01
     ellipse = problems.cannonball(mu)
@@ -234,3 +235,114 @@ def test_energy_error_is_the_modified_energy_correction_and_does_not_drift():
     assert np.max(np.abs(error + c - c[0])) < 10 * h * h * np.max(np.abs(error))
     first, last = np.max(np.abs(error[:per_orbit])), np.max(np.abs(error[per_orbit:]))
     assert abs(last / first - 1) < 0.05
+
+
+def _orbit_maxima(res, period, orbits, invariant, value0):
+    """Largest |invariant - value0| in each of ``orbits`` (1-based) of a run
+    sampled inside those orbits."""
+    orbit = np.floor(res.t / period).astype(int) + 1
+    error = np.abs(invariant(res.y, res.yp) - value0)
+    return np.array([error[orbit == k].max() for k in orbits])
+
+
+def _samples(orbits, period, step, per_orbit=64):
+    """``per_orbit`` times inside each orbit, each a multiple of ``step``."""
+    wanted = ((np.asarray(orbits)[:, None] - 1 + (np.arange(per_orbit) + 0.5) / per_orbit)
+              * period).ravel()
+    return step * np.round(wanted / step)
+
+
+def test_rk4_energy_error_drifts_linearly_at_its_own_steps():
+    """RK4 at the converged spline's work on the ellipse (step 0.01823): at its
+    own steps the largest energy error in orbit k is a + c (k - 1), so that
+    e_k - e_1 is proportional to k - 1 (log-log slope 1 from orbit 2 on, where
+    a power law fitted to e_k itself gives less than 1 until c k >> a).
+    Sampled at the spline's knots (multiples of 0.01) instead, RK4's values
+    come from the cubic Hermite interpolant between its steps, whose own
+    error is several times RK4's in the early orbits."""
+    from splinestep.problems import kepler
+    mu, h_rk4 = 0.6, 0.01823
+    ellipse = problems.cannonball(mu)
+    period = problems.orbit_elements(mu)["period"]
+    orbits = np.array([1, 2, 4, 10, 30, 100, 300])
+    energy = kepler.energy(mu)
+    h0 = energy(ellipse.y0[:, None], ellipse.yp0[:, None])[0]
+    own = splinestep.rk4(ellipse.fun, (0.0, 300 * period), ellipse.y0, ellipse.yp0, h_rk4,
+                         args=ellipse.args, t_eval=_samples(orbits, period, h_rk4))
+    e = _orbit_maxima(own, period, orbits, energy, h0)
+    slope = np.polyfit(np.log(orbits[1:] - 1), np.log(e[1:] - e[0]), 1)[0]
+    assert abs(slope - 1) < 0.05, slope
+    drift, start = np.polyfit(orbits - 1, e, 1)
+    assert abs(start / e[0] - 1) < 0.05 and abs(e[-1] / (start + 299 * drift) - 1) < 0.05
+    between = splinestep.rk4(ellipse.fun, (0.0, 5 * period), ellipse.y0, ellipse.yp0, h_rk4,
+                             args=ellipse.args, t_eval=_samples([4], period, 0.01))
+    assert _orbit_maxima(between, period, [4], energy, h0)[0] > 2 * e[2]
+
+
+def test_stability_limit_is_excluded_and_measured_below_it():
+    """Stable for omega h < sqrt(12) only: the half trace of the step matrix,
+    measured from one Newton-solved step of (y, h y') = (1, 0) and (0, 1),
+    is above -1 just below sqrt(12) and below -1 just above it; at sqrt(12)
+    itself the matrix is a Jordan block -I + N, N^2 = 0, and from (0, 1) the
+    solution grows linearly, |y_n| = n/3 exactly (a growth that a threshold
+    on |y| mistakes for stability)."""
+    osc = problems.harmonic(omega=1.0)
+
+    def run(x, y0, v0, steps):
+        with np.errstate(all="ignore"):
+            import warnings
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                return splinestep.solve(osc.fun, (0.0, steps * x), np.asarray(y0, float),
+                                        np.asarray(v0, float) / x, x, args=osc.args,
+                                        jac=osc.jac, iteration="newton", tol=1e-15)
+
+    def half_trace(x):
+        res = run(x, [1.0, 0.0], [0.0, 1.0], 1)
+        return 0.5 * (res.y[0, -1] + x * res.yp[1, -1])
+
+    limit = np.sqrt(12.0)
+    assert half_trace(limit * (1 - 1e-9)) > -1 > half_trace(limit * (1 + 1e-9))
+    at_limit = run(limit, [0.0], [1.0], 1000)
+    y = np.abs(at_limit.y[0, [10, 100, 1000]])
+    assert np.allclose(y, np.array([10, 100, 1000]) / 3, rtol=1e-4)
+
+
+def test_one_sweep_drifts_in_energy_and_shortens_the_period():
+    """One fixed-point sweep per step keeps order 2 but is not symmetric: on
+    the ellipse at h = 0.01 its energy error grows linearly (by about
+    1.2e-7 per orbit against 6.4e-6 in the first), so that by orbit 1,000 it
+    is 10 to 40 times the first orbit's, while the converged step's stays
+    within 1 %.  Its energy drifts down, the orbit shrinks and the period
+    shortens from orbit to orbit: the period fitted to the periapsis passages
+    of the first 200 orbits is shorter, by more than 1e-4 of T, than that of
+    the first 20 (measured: -8.7e-5 against +7.9e-5 of T), where the
+    converged step's period error is the same in both windows to 2 %."""
+    from splinestep.problems import kepler
+    mu, h = 0.6, 0.01
+    ellipse = problems.cannonball(mu)
+    period = problems.orbit_elements(mu)["period"]
+    energy = kepler.energy(mu)
+    h0 = energy(ellipse.y0[:, None], ellipse.yp0[:, None])[0]
+    orbits = np.array([1, 1000])
+    ratios = {}
+    for sweeps in (1, None):
+        kwargs = dict(iterations=1) if sweeps else {}
+        res = splinestep.solve(ellipse.fun, (0.0, 1000 * period), ellipse.y0, ellipse.yp0, h,
+                               args=ellipse.args, t_eval=_samples(orbits, period, h), **kwargs)
+        first, last = _orbit_maxima(res, period, orbits, energy, h0)
+        ratios[sweeps] = last / first
+        if sweeps:
+            assert np.mean(energy(res.y, res.yp)[-64:]) < h0
+    assert 10 < ratios[1] < 40 and abs(ratios[None] - 1) < 0.01
+    t = h * np.arange(int(round(200 * period / h)) + 1)
+    short = t <= 20 * period
+    errors = {}
+    for sweeps in (1, None):
+        kwargs = dict(iterations=1) if sweeps else {}
+        res = splinestep.solve(ellipse.fun, (0.0, t[-1]), ellipse.y0, ellipse.yp0, h,
+                               args=ellipse.args, t_eval=t, **kwargs)
+        errors[sweeps] = [diagnostics.phase_drift_from_passages(t[w], res.y[:, w], period)[1]
+                          for w in (short, slice(None))]
+    assert errors[1][1] < errors[1][0] - 1e-4
+    assert abs(errors[None][1] / errors[None][0] - 1) < 0.02

@@ -4,8 +4,9 @@ An error-controlled step size depends on the error estimate, which is not
 symmetric in time: stepping back does not retrace the steps, and the
 bounded energy error of a fixed step is lost (notebook 07 shows the drift).
 Hairer and Soderlind keep it by making the step size itself the output of a
-symmetric recursion.  With a step density s(y) (small steps where s is
-small) and G = -(d/dt) ln s along the solution, a control variable rho
+symmetric recursion.  With a step-size function s(y) (the steps are
+proportional to s: small where s is small, so that the density of steps is
+1/s) and G = -(d/dt) ln s along the solution, a control variable rho
 follows the leapfrog recursion
 
     rho_{1/2} = rho_0 + eps G(y_0) / 2,    rho_0 = 1,
@@ -118,7 +119,7 @@ def solve_reversible(fun, t_span, y0, yp0, eps, control, *, rho0=1.0, args=(),
         The step at the start (rho_0 = 1); the steps scale with it.
     control : callable
         ``control(t, y, yp, *args) -> G``, minus the time derivative of the
-        logarithm of the step density s along the solution (see the module
+        logarithm of the step-size function s along the solution (see the module
         docstring); for Kepler with s = r^(3/2), -1.5 (y . yp) / |y|^2.
     rho0 : float
         The control variable at the start (the first step is about

@@ -13,12 +13,12 @@
 
 from ._problem import Problem
 from .kepler import (CANNONBALL_MU, ORBIT_TYPES, acceleration_derivatives, cannonball,
-                     density_control, eccentric, kepler_exact, orbit_elements, path_curvature)
+                     step_size_control, eccentric, kepler_exact, orbit_elements, path_curvature)
 from .boundary import bratu
 from .pleiades import pleiades
 from .oscillator import harmonic
 from .euler_top import euler_top_exact, rigid_body
 
 __all__ = ["Problem", "cannonball", "CANNONBALL_MU", "ORBIT_TYPES", "kepler_exact",
-           "orbit_elements", "acceleration_derivatives", "path_curvature", "density_control",
+           "orbit_elements", "acceleration_derivatives", "path_curvature", "step_size_control",
            "rigid_body", "euler_top_exact", "harmonic", "eccentric", "pleiades", "bratu"]

@@ -35,8 +35,8 @@ def kepler_rhs(t, y, yp, mu):
 
 
 @njit(cache=True)
-def density_control(t, y, yp, mu):
-    """G = -(3/2) x.x' / |x|^2 = -d/dt ln s for the step density s = r^(3/2):
+def step_size_control(t, y, yp, mu):
+    """G = -(3/2) x.x' / |x|^2 = -d/dt ln s for the step-size function s = r^(3/2):
     the control of :func:`splinestep.solve_reversible` for Kepler orbits
     (steps ~ r^(3/2), Hairer and Soderlind 2005), compiled, so that the
     compiled loop calls it directly."""
