@@ -42,8 +42,8 @@ per_step = np.array([runs[mu]["spline"].nfev / runs[mu]["spline"].nstep for mu i
 outputs.say(
     f"The spline stepper iterates each step until the change is below $10^{{-12}}$ of "
     f"the state (the default `tol`).  At $\\Delta t = 0.01$ that takes "
-    f"{per_step.min():.2f} to {per_step.max():.2f} evaluations per step (one to start "
-    f"the sweep's test, then one per sweep), {per_step.min() / 4:.0%} to "
+    f"{per_step.min():.2f} to {per_step.max():.2f} evaluations per step (one per sweep: each "
+    f"sweep evaluates $F$ once and tests the change it made), {per_step.min() / 4:.0%} to "
     f"{per_step.max() / 4:.0%} of RK4's four.")
 
 # %% [markdown]
@@ -58,7 +58,7 @@ for ax, mu in zip(axes.flat, MUS):
     t = runs[mu]["spline"].t
     exact, _ = problem.exact(t)
     # The exact orbit first, as a wide light band, over one period where the orbit closes
-    # (it repeats: the circle 8 times in t <= 50); the numerical solutions on top of it.
+    # (it repeats: the circle 7.96 times in t <= 50); the numerical solutions on top of it.
     period = problems.orbit_elements(mu)["period"]
     lap = t <= period if np.isfinite(period) else slice(None)
     ax.plot(exact[0, lap], exact[1, lap], color="0.6", linewidth=5, solid_capstyle="butt",
@@ -209,7 +209,7 @@ outputs.say(
 #   (length / time$^2$), which the spline's quadratic coefficient carries.
 #
 # Beside them, the fourth derivative $|\mathbf x''''|$ (length / time$^4$),
-# which sets the step's local error $h^4 \mathbf x''''/24$ (`01_method`).  On
+# which sets the step's local error, $h^4 \mathbf x''''/24$ to leading order (`01_method`).  On
 # the ellipse ($\mu = 0.6$) we compute all three along the exact orbit, in
 # closed form (`problems.acceleration_derivatives`), beside the rate at which
 # the spline's energy error changes, over the first orbit.  The three have
@@ -277,7 +277,7 @@ for row in location.itertuples():
 e = elements["eccentricity"]
 r_peri, r_apo = elements["a"] * (1 - e), elements["a"] * (1 + e)
 value = location.set_index("quantity").value
-# Knots every 0.01 miss an apsis by at most |r''| 0.005^2 / 2 < 5e-6 of r (|r''| <= 0.4), and
+# Knots every 0.01 miss an apsis by at most |r''| 0.005^2 / 2 <= 5e-6 of r (|r''| <= 0.4), and
 # pass r = 4.5 by at most |r'| 0.01 < 1.4e-3 (|r'| = 0.13 there): the ratios within 1e-4, 1e-3.
 closed = {"acceleration_ratio_apsides": ((r_apo / r_peri) ** 2, 1e-4),
           "acceleration_ratio_arcs": ((4.5 / r_peri) ** 2, 1e-3)}
@@ -318,9 +318,9 @@ outputs.say(
     f"**The path's curvature.**  Its largest value near periapsis ($r < 1.5$) and near "
     f"apoapsis ($r > 4.5$) is the same (ratio {value['curvature_ratio_arcs']:.2f}; the "
     f"curvature is smallest, {value['min_curvature']:.3f}, at "
-    f"$r = {value['r_min_curvature']:.2f}$), but the energy error changes at most "
-    f"{outputs.sci(value['energy_rate_ratio_arcs'])} times faster near periapsis than near "
-    f"apoapsis; over the first orbit the logarithm of that rate correlates with "
+    f"$r = {value['r_min_curvature']:.2f}$), but the largest rate at which the energy error "
+    f"changes near periapsis is {outputs.sci(value['energy_rate_ratio_arcs'])} times the "
+    f"largest near apoapsis; over the first orbit the logarithm of that rate correlates with "
     f"$\\log\\kappa$ at {value['log_correlation_rate_curvature']:.2f}.  In this reading the "
     f"report's explanation fails: the spline has no difficulty at apoapsis, where the path "
     f"is as curved as at periapsis.")

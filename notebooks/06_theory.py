@@ -524,7 +524,7 @@ outputs.save_figure(fig, "higher-degree-splines")
 # $e^{|\mu| t/3}$ while the solution decays; and a wrong $y'''(0)$ excites
 # that mode, which never decays.  Usable, in the strict sense of the theory,
 # are degree 3 (the report's method) and degree 4 for undamped problems with
-# exact starting derivatives; degree 5 and above diverge for every $h$.  The
+# exact starting derivatives; degrees 5 and 6 diverge for every $h$.  The
 # fourth-order method that keeps the cubic's good behaviour is built in
 # another way, by symmetric composition of the cubic step.
 
@@ -841,9 +841,9 @@ print(f"the two ways agree to {agreement:.0e} (relative); spline / Verlet = {pha
 outputs.say(
     f"Both methods lag: the spline by {outputs.sci(-phase.loc['spline', 'drift_from_angle'])} "
     f"rad per orbit, Verlet by {outputs.sci(-phase.loc['Verlet', 'drift_from_angle'])}, the "
-    f"spline {phase_ratio:.2f} times as much, and the two measurements agree to "
-    f"{outputs.sci(agreement, 1)}.  The oscillator's picture of equal and opposite period "
-    f"errors does not carry over: both computed periods are too long "
+    f"spline {phase_ratio:.2f} times as much, and the two measurements agree to a relative "
+    f"{outputs.sci(agreement, 1)}.  The oscillator's picture of period "
+    f"errors equal and opposite to leading order does not carry over: both computed periods are too long "
     f"($T_h/T - 1$ is {outputs.sci(phase.loc['spline', 'period_error'])} and "
     f"{outputs.sci(phase.loc['Verlet', 'period_error'])}), and what is equal and opposite "
     f"is the turn of the periapsis, {outputs.sci(phase.loc['spline', 'precession_per_orbit'])} "
@@ -944,8 +944,8 @@ print(f"spline with one sweep: {per_step.min():.2f} to {per_step.max():.2f} eval
 outputs.say(
     f"At the same step the spline's error is {outputs.span((step_ratio.min(), step_ratio.max()), decimals=2)} "
     f"times Verlet's at every step size: a constant factor, not 1.  The two methods' error "
-    f"constants are equal and opposite ($\\mp 1/12$), which on the oscillator gives equal and "
-    f"opposite period errors, but on this orbit the spline's phase drifts {phase_ratio:.2f} "
+    f"constants are equal and opposite ($\\mp 1/12$), which on the oscillator gives period errors "
+    f"equal and opposite to leading order ($\\pm x^2/24$; the $x^4$ terms have the same sign), but on this orbit the spline's phase drifts {phase_ratio:.2f} "
     f"times as fast as Verlet's (section 6), which accounts for much, not all, of the factor "
     f"over $t \\in [0, 50]$.  This is one orbit, $\\mu = 0.6$; other orbits give other "
     f"factors.  At equal evaluations Verlet wins here: the converged spline's "

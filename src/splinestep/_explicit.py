@@ -30,8 +30,10 @@ def _explicit_loop(fun, args, method, t0, h, n, tf, y0, yp0, t_eval, store_knots
     tuple as ``spline._spline_loop``'s first item.
 
     Between steps, values at ``t_eval`` come from cubic Hermite
-    interpolation of (y, y') and of (y', y'') at the two ends of the step
-    (O(h^4), below the error of either method).
+    interpolation of (y, y') and of (y', y'') at the two ends of the step.
+    Its error is O(h^4): below Verlet's error, but of the order of RK4's own
+    (on the ellipse at h = 0.0321, 25 % above RK4's energy error in the first
+    orbit), so that RK4 is measured at its own steps (``t_eval`` on them).
     """
     m = y0.shape[0]
     n_out = n + 1 if store_knots else 1

@@ -6,7 +6,7 @@ far past what the solution supports, in two ways:
 1. The local error estimate.  y''' is constant on each interval of the
    spline, so its jump at a knot, divided by the mean of the two steps,
    estimates y''''; one step from exact values misses h^4 y''''/24 in y and
-   h^3 y''''/12 in y' (``step.ERR_Y``, ``step.ERR_YP``).  Every run
+   h^3 y''''/12 in y' to leading order (``step.ERR_Y``, ``step.ERR_YP``).  Every run
    reports the largest of these estimates and where.  When it exceeds
    :data:`LOCAL_FRACTION` of the largest |y| (or |y'|) of the run, the
    step cannot resolve the solution.
