@@ -30,7 +30,7 @@ from scipy.integrate import solve_ivp
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
 import splinestep
-from splinestep import conjugacy, diagnostics, problems, theory
+from splinestep import check, conjugacy, diagnostics, problems, theory
 from splinestep.higher_degree import solve_degree
 from splinestep.problems import euler_top, kepler
 
@@ -274,6 +274,12 @@ for v, m, s2 in zip(xs, measured, two_terms):
 print(f"fitted coefficient of x^2: {fitted_leading:.6f} (derived {leading:.6f})")
 print(f"stability limit (tr M / 2 = -1), measured {stability:.10f}, derived sqrt(12) = "
       f"{float(limit):.10f}")
+# The package's step-too-large check (splinestep.check) fires where the
+# linearised step's spectral radius exceeds 1 + GROWTH_MARGIN: just past the limit.
+check_fires = bisect(lambda v: check.growth(np.array([[-1.0]]), np.array([[0.0]]), v,
+                                            1 / 6, 1 / 2)[0] > 1 + check.GROWTH_MARGIN,
+                     3.0, 4.0, steps=60)
+print(f"the step-too-large check fires from omega h = {check_fires:.7f} on")
 print("at omega h = sqrt(12), from (y, h y') = (0, 1): |y_n| = " + ", ".join(
     f"{g:.4g} (n = {n})" for g, n in zip(growth_at_limit, (10, 100, 1000)))
       + "; derived n/3")
