@@ -741,7 +741,7 @@ bx.loglog(spline_windows.orbit, np.maximum(spline_windows.modified_momentum_erro
           "C0--", linewidth=1)
 ax.set_ylabel("largest $|H - H_0|$\nin the orbit")
 bx.set_ylabel("largest $|L - L_0|$\nin the orbit")
-bx.set_xlabel("orbit number (period $T$, step $h = 0.01$)")
+bx.set_xlabel("orbit number (period $T$; spline and Verlet step $h = 0.01$)")
 ax.set_title("Ellipse $\\mu = 0.6$ over 10,000 orbits: energy and angular momentum")
 fig.legend(*ax.get_legend_handles_labels(), loc="outside upper center", ncol=1,
            fontsize=outputs.MIN_FONT)
@@ -856,8 +856,8 @@ outputs.say(
     f"and {outputs.sci(phase.loc['Verlet', 'precession_per_orbit'])} rad per orbit.  With one "
     f"sweep per step there is no constant rate to measure: the energy drifts down, the orbit "
     f"shrinks and the period shortens from orbit to orbit, so that over these 200 orbits the "
-    f"mean period is too short ($T_h/T - 1 = "
-    f"{outputs.sci(phase.loc['spline, 1 sweep', 'period_error'])}$) and the body gains "
+    f"mean period is too short ($T_h/T - 1$ = "
+    f"{outputs.sci(phase.loc['spline, 1 sweep', 'period_error'])}) and the body gains "
     f"{outputs.sci(phase.loc['spline, 1 sweep', 'drift_from_angle'])} rad per orbit on "
     f"average; over a shorter window both means differ, and the two ways of measuring agree "
     f"only to {outputs.sci(abs(phase.loc['spline, 1 sweep', 'drift_from_passages'] / phase.loc['spline, 1 sweep', 'drift_from_angle'] - 1), 1)}.")
