@@ -119,10 +119,10 @@ print(f"runs warned 'step too large': {len(flagged)} of {len(phase)}, "
       f"omega h from {flagged.omega_h.min():.3f} on")
 outputs.say(
     f"These runs go up to the stability limit on purpose, and each run also estimates its own "
-    f"local error from the jumps of the spline's third derivative ($h^4 y''''/24$ to leading "
-    f"order, "
+    f"local error from the jumps of the spline's third derivative ($h^4 y''''/24$ in $y$, "
+    f"$h^3 y''''/12$ in $y'$, to leading order, "
     f"`splinestep.check`).  From $\\omega h = {flagged.omega_h.min():.2f}$ on "
-    f"({len(flagged)} of the {len(phase)} runs) that estimate exceeds a tenth of the amplitude, "
+    f"({len(flagged)} of the {len(phase)} runs) that estimate exceeds a tenth of the solution's size (of $y$ or of $y'$), "
     f"and the run warns that the step is too large for the solution; the warnings are "
     f"collected here instead of printed.")
 
@@ -180,8 +180,9 @@ outputs.save_figure(fig, "method-phase-error")
 #   $y'' = -\nabla V(y)$, Newmark's method with $\gamma = 1/2$ is symplectic
 #   for a modified symplectic form (Kane, Marsden, Ortiz & West 2000), so
 #   the energy error stays bounded and oscillates with the orbit
-#   (`02_cannonball`), while the phase, lagging by $2\pi x^2/24$ per period
-#   to leading order, drifts linearly, and so does the position error.  The report's rigid body in
+#   (`02_cannonball`), while the phase drifts linearly (on the oscillator it
+#   lags by $2\pi x^2/24$ per period to leading order; on the ellipse the
+#   lag per orbit is measured in `06_theory`), and so does the position error.  The report's rigid body in
 #   its second-order form is not of that form, and there the energy error
 #   does grow (`03_rigid_body`): the bounded error is a property of the
 #   method on conservative problems, not on every problem;

@@ -154,7 +154,8 @@ claim("Sec. 5", "the method is stable (inferred from its convergence)",
       f"x = omega h, least at x = sqrt(6) where |R| = 0.5; measured {rk4_stable.min():.3f} at "
       f"the nearest sampled omega h, {phase.omega_h[rk4_stable.idxmin()]:.2f}; 1 - "
       f"{sci(1 - rk4_stable.max())} at omega h = "
-      f"{phase.omega_h.min():.2f}) and above 1 beyond it (up to {rk4_unstable.max():.2f}). The "
+      f"{phase.omega_h.min():.2f}) and above 1 beyond it (|R| up to {rk4_unstable.max():.2f}, at omega h = "
+      f"{phase.omega_h.max():.2f}). The "
       f"fixed-point sweep needs omega h < sqrt(6) = {np.sqrt(6):.2f}",
       "reproduced in the report's sense (convergence); linear stability is conditional, "
       "as for RK4, and without RK4's damping")
@@ -196,7 +197,7 @@ claim("Sec. 5", "a formal proof of convergence may lend insight",
 claim("Sec. 5", "higher-order polynomial splines with more continuity may do better",
       f"degree 4 (C3): extra root -1, order {degrees.loc[4, 'fitted_order_ellipse']:.2f} on the "
       f"ellipse but weakly stable (a parasitic mode that damping makes grow); degree 5 and 6: "
-      f"spurious roots {degrees.loc[5, 'largest_spurious_root']:.3f} and "
+      f"spurious roots of modulus {degrees.loc[5, 'largest_spurious_root']:.3f} and "
       f"{degrees.loc[6, 'largest_spurious_root']:.3f} (errors grow by "
       f"{degrees.loc[5, 'measured_growth_per_step']:.3f} and "
       f"{degrees.loc[6, 'measured_growth_per_step']:.3f} per step)",
@@ -289,7 +290,7 @@ claim("Sec. 5", "improved accuracy through adaptability",
       f"runs reach t = 3 (errors {sci(pleiades_adaptive.error.min())} to "
       f"{sci(pleiades_adaptive.error.max())}); a failed step equation is retried smaller. Over "
       f"300 orbits the adaptive energy error wanders from {sci(wandering.iloc[0], 1)} to "
-      f"{sci(wandering.iloc[-30:].max(), 1)}; time-reversible steps (Hairer and Soderlind) keep it "
+      f"{sci(wandering.iloc[-30:].max(), 2)}; time-reversible steps (Hairer and Soderlind) keep it "
       f"at {sci(reversible.mean())}. Newton keeping its Jacobian and LU factors across "
       f"iterations and steps, on accurate Pleiades runs "
       f"(uniform h = 1e-4, adaptive rtol = 1e-8): "
@@ -344,7 +345,8 @@ claim("Sec. 5", "higher order",
       "was not run that long); over t in [0, 50] order 4 costs more "
       "than RK4, order 6 as much at low accuracy and less at high (ellipse), and DOP853 is "
       "cheaper than both; over "
-      "10,000 orbits at equal work RK4 is more accurate in position than order 4, and in energy "
+      "10,000 orbits at equal work RK4 is more accurate in position than order 4 until both "
+      "have lost the phase, and in energy "
       "for the first thousands of orbits")
 global_sweep = outputs.read_data("global-sweep")
 global_analytic = global_sweep[global_sweep.jacobian == "analytic"]

@@ -279,7 +279,7 @@ print(f"stability limit (tr M / 2 = -1), measured {stability:.10f}, derived sqrt
 check_fires = bisect(lambda v: check.growth(np.array([[-1.0]]), np.array([[0.0]]), v,
                                             1 / 6, 1 / 2)[0] > 1 + check.GROWTH_MARGIN,
                      3.0, 4.0, steps=60)
-print(f"the step-too-large check fires from omega h = {check_fires:.7f} on")
+print(f"the step-too-large check fires above omega h = {check_fires:.7f}")
 print("at omega h = sqrt(12), from (y, h y') = (0, 1): |y_n| = " + ", ".join(
     f"{g:.4g} (n = {n})" for g, n in zip(growth_at_limit, (10, 100, 1000)))
       + "; derived n/3")
@@ -643,7 +643,7 @@ for tol in (1e-4, 1e-5, 1e-6, 1e-7):
     dop_choice.append((abs(np.log(np.max(np.abs(sol.y[:2] - ellipse.reference(first_orbit)[0]))
                                   / spline_first)), tol))
 dop_tol = min(dop_choice)[1]
-# DOP853 at every step it takes (its steps are few: about 17 per orbit).
+# DOP853 at every step it accepts (its steps are few: about 12 per orbit).
 dop = solve_ivp(first_order, (0.0, DOP_ORBITS * period_T), np.r_[ellipse.y0, ellipse.yp0],
                 method="DOP853", rtol=dop_tol, atol=dop_tol * 1e-2)
 dop_label = f"DOP853, rtol {dop_tol:.0e}"
@@ -769,11 +769,12 @@ outputs.say(
     f"only, an $O(h^4)$ quantity: the bounded error is the conjugacy's modified energy at work.  "
     f"Its angular momentum $q \\times v$ oscillates without drift (exponent "
     f"{outputs.signed(d.loc['spline', 'momentum_exponent'])}) and "
-    f"$(1 + h^2\\mu/6r^3)\\, q \\times v$ is constant to "
-    f"{outputs.sci(spline_windows.modified_momentum_error.max())}.  RK4 at the same work "
+    f"$(1 + h^2\\mu/6r^3)\\, q \\times v$ is constant to rounding level "
+    f"({outputs.sci(spline_windows.modified_momentum_error.max())}, set by the step "
+    f"equation's tolerance $10^{{-12}}$ and rounding).  RK4 at the same work "
     f"drifts linearly from the first orbit: at its own steps its energy error in orbit $k$ is "
     f"{outputs.sci(d.loc['RK4, same work', 'energy_error_start'], 3)} $+$ "
-    f"{outputs.sci(d.loc['RK4, same work', 'energy_drift_per_orbit'], 3)}$\\,(k - 1)$ "
+    f"{outputs.sci(d.loc['RK4, same work', 'energy_drift_per_orbit'], 3)} $\\times (k - 1)$ "
     f"(fitted exponent {d.loc['RK4, same work', 'energy_exponent']:.2f} from orbit "
     f"{GROWTH_FROM} on).  It reaches {outputs.sci(rk4_work_final)} after 10,000 orbits, still "
     f"below the spline's {outputs.sci(d.loc['spline', 'final_energy_error'])}; continued on "
@@ -786,8 +787,9 @@ outputs.say(
     f"{sweep_row.energy_exponent:.2f}, a linear drift of "
     f"{outputs.sci(sweep_row.energy_drift_per_orbit)} per orbit), because the unconverged "
     f"step is neither symmetric nor the conjugate of Verlet.  "
-    f"DOP853 at rtol {dop_tol:.0e}, chosen for a first-orbit error like the "
-    f"spline's, is not a run at equal work: it evaluates $F$ about "
+    f"DOP853 at rtol {dop_tol:.0e}, of the tolerances tried ($10^{{-4}}$ to $10^{{-7}}$) the "
+    f"one whose first-orbit error is closest to the spline's (it is "
+    f"{outputs.round_sig(np.exp(min(dop_choice)[0]), 2):.0f} times smaller), is not a run at equal work: it evaluates $F$ about "
     f"{outputs.round_sig(evaluations_per_orbit[dop_label], 2):.0f} times per orbit against the "
     f"spline's {outputs.round_sig(evaluations_per_orbit['spline'], 2):,.0f}, and its energy "
     f"error drifts with exponent {d.loc[dop_label, 'energy_exponent']:.1f} over its 1,000 "

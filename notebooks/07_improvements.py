@@ -173,8 +173,9 @@ steps = np.diff(run.t)
 r_knots = np.hypot(*run.y)
 at_apoapsis = steps[np.argmax(r_knots[1:])]   # the step that ends nearest apoapsis
 outputs.say(
-    f"The estimate follows the true local error through the periapsis passage, where the "
-    f"steps shrink to {outputs.sci(steps.min())}, and out towards apoapsis, where they grow "
+    f"The estimate follows the true local error through the periapsis passages (after a "
+    f"start-up from {outputs.sci(steps[0])}, the steps at the closing passage are about "
+    f"{outputs.sci(steps[-1])}), and out towards apoapsis, where they grow "
     f"to {outputs.sci(steps.max())} at $r = {r_knots[1:][np.argmax(steps)]:.2f}$ (median ratio "
     f"{np.median(ratio):.2f}); at apoapsis itself ($r = {r_knots.max():.2f}$) the step drops to "
     f"{outputs.sci(at_apoapsis)}, because the error norm weighs each velocity component by its "
@@ -301,8 +302,9 @@ outputs.say(
     f"{per_step['fixed-point sweep'].min():.2f}-{per_step['fixed-point sweep'].max():.2f}: "
     f"the kept matrix costs {kept_over_sweep.min():.2f} to {kept_over_sweep.max():.2f} times "
     f"the sweep's evaluations.  Newton's method, with the kept matrix, is for steps where the "
-    f"sweep does not converge ($h^2/6\\,\\|\\partial F/\\partial y\\|$ near 1, e.g. "
-    f"$\\omega h > \\sqrt 6$ on the oscillator), not a saving where it does.")
+    f"sweep diverges or crawls (spectral radius of $h^2/6\\,\\partial F/\\partial y$ at least "
+    f"1 or close to it, e.g. $\\omega h \\ge \\sqrt 6$ on the oscillator), not a saving where "
+    f"it converges fast.")
 
 # %% [markdown]
 # ## 2. The long-time picture of variable steps
@@ -346,7 +348,7 @@ print(f"reversible: {reversible.nfev / ORBITS:.0f} evaluations per orbit, larges
       f"error per orbit from {rev_err.min():.4e} to {rev_err.max():.4e}")
 print(f"adaptive:   {controlled.nfev / ORBITS:.0f} evaluations per orbit, largest energy error "
       f"in the first orbit {outputs.sci(ctl_err[0], 1)}, over the last 30 orbits "
-      f"{outputs.sci(ctl_err[-30:].max(), 1)}")
+      f"{outputs.sci(ctl_err[-30:].max(), 2)}")
 # Where the adaptive run's error passes through zero: the orbits across which
 # the largest and the smallest H - H0 of an orbit change sign.
 ctl_signed = pd.Series(energy(controlled.y, controlled.yp) - e0).groupby(
@@ -375,7 +377,7 @@ outputs.say(
     f"{outputs.sci(rev_err.mean())} for all 300 orbits (it varies by "
     f"{outputs.sci(rev_err.max() - rev_err.min(), 1)}) at {reversible.nfev / ORBITS:.0f} "
     f"evaluations per orbit; the error-controlled knots, at {controlled.nfev / ORBITS:.0f}, "
-    f"wander from {outputs.sci(ctl_err[0], 1)} to {outputs.sci(ctl_err[-30:].max(), 1)}.  On "
+    f"wander from {outputs.sci(ctl_err[0], 1)} to {outputs.sci(ctl_err[-30:].max(), 2)}.  On "
     f"this orbit, for a long run, the reversible steps are the adaptive method to use; the "
     f"price is choosing the step-size function $s$ by hand, and the measurement is one orbit "
     f"and one $\\varepsilon$.  The error-controlled run's dips are where its drifting "
@@ -618,7 +620,9 @@ outputs.say(
     f"and {outputs.sci(growth['spline, order 4'].position_error.iloc[-1])} on an orbit of "
     f"semi-major axis 3).  The composition is symmetric but not conjugate to Verlet (its "
     f"sub-steps differ, so no single change of variables as in notebook 06 applies); its "
-    f"bounded energy comes from reversibility on an integrable problem.  To reach the same "
+    f"bounded energy is not explained by a conjugacy (reversible methods on integrable "
+    f"problems keep modified invariants nearly constant, Hairer, Lubich and Wanner Ch. XI, "
+    f"which we have not measured here).  To reach the same "
     f"error over $t \\in [0, 50]$, Richardson extrapolation of the report's method, the "
     f"classical route to order 4, needs {outputs.span((rich.ratio_min, rich.ratio_max), 2)} "
     f"times the evaluations of the order-4 composition: the composition wins there.  RK4 needs "
@@ -631,7 +635,7 @@ outputs.say(
     f"until both have lost the phase, and the composition's one advantage over RK4 is an energy "
 
     f"error that does not grow, which at this work pays only beyond about "
-    f"{round(crossing_sampled, -3):,.0f} orbits.")
+    f"{outputs.round_sig(crossing_sampled, 2):,.0f} orbits.")
 
 # %% [markdown]
 # ## 4. The single Newton-LU sweep

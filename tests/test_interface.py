@@ -52,7 +52,7 @@ def test_a_wrong_answer_is_flagged(case):
 
 def test_stability_limit_is_where_the_linear_analysis_puts_it():
     """The linearised-step check fires on y'' = -omega^2 y past omega h =
-    sqrt(12), from 3.4641029 on (where the spectral radius reaches 1 +
+    sqrt(12), above 3.4641029 (where the spectral radius reaches 1 +
     GROWTH_MARGIN, splinestep/check.py), and not at or below sqrt(12)."""
     for x, fires in ((3.45, False), (math.sqrt(12), False), (3.4641025, False),
                      (3.4641035, True), (3.48, True)):

@@ -17,8 +17,8 @@ far past what the solution supports, in two ways:
    flow by exp(h L) with L = [[0, I], [A, B]].  When the spectral radius of M
    exceeds both 1 and that of exp(h L) by more than :data:`GROWTH_MARGIN`,
    the step amplifies what the equation does not: on y'' = -omega^2 y the
-   method is stable for omega h < sqrt(12) only, and the test fires from
-   omega h = 3.4641029 on, where rho = 1 + GROWTH_MARGIN.  At omega h =
+   method is stable for omega h < sqrt(12) only, and the test fires above
+   omega h = 3.4641029, where rho = 1 + GROWTH_MARGIN.  At omega h =
    sqrt(12) itself M is a Jordan block with rho = 1 and the solution grows
    linearly, which a spectral radius cannot see; the local-error test above
    fires long before a step is that large.  Checked at the initial

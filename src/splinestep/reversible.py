@@ -6,7 +6,7 @@ bounded energy error of a fixed step is lost (notebook 07 shows the drift).
 Hairer and Soderlind keep it by making the step size itself the output of a
 symmetric recursion.  With a step-size function s(y) (the steps are
 proportional to s: small where s is small, so that the density of steps is
-1/s) and G = -(d/dt) ln s along the solution, a control variable rho
+proportional to 1/s) and G = -(d/dt) ln s along the solution, a control variable rho
 follows the leapfrog recursion
 
     rho_{1/2} = rho_0 + eps G(y_0) / 2,    rho_0 = 1,

@@ -20,8 +20,8 @@ reversible drivers call these and nothing else of the method.
 Newton's method is the simplified Newton of implicit Runge-Kutta codes
 (Hairer and Wanner's RADAU5): the matrix I - dt^2/6 dF/dy - dt/2 dF/dy' and
 its LU factors are kept across iterations and steps, and rebuilt only when
-the iteration contracts slowly (by less than :data:`SLOW_RATE` per
-iteration), when it fails, or when the step changed by more than
+the iteration contracts slowly (an update larger than :data:`SLOW_RATE`
+times the one before), when it fails, or when the step changed by more than
 :data:`STEP_CHANGE` since they were built.
 
 References

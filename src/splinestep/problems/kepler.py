@@ -254,7 +254,7 @@ def eccentric(e=0.9, orbits=1):
     """A Kepler orbit of eccentricity ``e`` (0 <= e < 1) with mu = 1,
     launched at periapsis r = 1 with speed sqrt(1 + e), over ``orbits``
     periods T = 2 pi / (1 - e)^(3/2).  The speed at periapsis is
-    sqrt((1 + e) / (1 - e)) times that at apoapsis, so a uniform step spends
+    (1 + e) / (1 - e) times that at apoapsis (angular momentum), so a uniform step spends
     most of its work where the orbit is slow.  ``h`` is T / 10,000.
     Exact solution: :func:`kepler_exact`."""
     e = float(e)
