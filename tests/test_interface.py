@@ -223,12 +223,15 @@ def test_steps_and_spans_at_the_edges():
     # A span that is not a multiple of h: the last step is shortened.
     res = splinestep.solve(lambda t, y, yp: -y, (0, 1.05), 1.0, 0.0, 0.1)
     assert res.nstep == 11 and np.diff(res.t)[-1] == pytest.approx(0.05)
-    # 10^9 steps: a warning before the run (turned into an error so that it
-    # does not start).
+    # 10^9 steps: more than max_steps (10^8 by default), refused before the run;
+    # allowed by a larger max_steps, with a warning before the run (turned into
+    # an error so that it does not start).
+    with pytest.raises(ValueError, match="1e\\+09 steps, more than max_steps = 100000000"):
+        splinestep.solve(lambda t, y, yp: -y, (0, 10), 1.0, 0.0, 1e-8)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         with pytest.raises(UserWarning, match="1e\\+09 steps"):
-            splinestep.solve(lambda t, y, yp: -y, (0, 10), 1.0, 0.0, 1e-8)
+            splinestep.solve(lambda t, y, yp: -y, (0, 10), 1.0, 0.0, 1e-8, max_steps=10**10)
 
 
 def test_messages_use_short_times():

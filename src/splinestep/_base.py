@@ -17,8 +17,31 @@ from .result import OdeResult
 SLIVER = 1e-9
 # Relative step of the finite-difference Jacobians: sqrt(machine epsilon).
 FD_STEP = 1.4901161193847656e-08
-# A run of more steps than this gets a warning before it starts.
+# The smallest rtol double precision can honour (scipy's solve_ivp: 100 eps).
+RTOL_FLOOR = 100 * np.finfo(float).eps
+# The default largest number of steps of a run (``max_steps``): a fixed grid
+# of more is refused before it starts, adaptive knots stop there.
+MAX_STEPS = 10**8
+# A fixed grid of more steps than this gets a warning before it starts (it
+# takes long, and storing every knot takes gigabytes).
 MANY_STEPS = 10**8
+
+
+def is_real(value):
+    """A real number that is not a bool (True is not a tolerance)."""
+    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+
+
+def is_integer(value):
+    """An integer that is not a bool (True is not a count)."""
+    return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+
+
+def check_max_steps(max_steps):
+    """``max_steps`` as an int >= 1, or a ValueError naming it."""
+    if not (is_integer(max_steps) and max_steps >= 1):
+        raise ValueError(f"max_steps must be an integer >= 1, got {max_steps!r}")
+    return int(max_steps)
 
 # Status codes returned by the step loops (the loops cannot raise with a
 # message when compiled, so they report what went wrong as a code).
@@ -89,6 +112,9 @@ def check_state(y0, yp0):
     yp0 = _real_array(yp0, "yp0")
     if y0.ndim != 1:
         raise ValueError(f"y0 must be a scalar or a 1-D array, got shape {y0.shape}")
+    if y0.size == 0:
+        raise ValueError("y0 must have at least one component (scipy accepts an empty "
+                         "state; a spline of nothing has no steps to take)")
     if yp0.shape != y0.shape:
         raise ValueError(
             f"y0 and yp0 must have the same shape, got {y0.shape} and {yp0.shape}")
@@ -109,6 +135,8 @@ def _real_array(value, name):
     if np.iscomplexobj(array):
         raise ValueError(f"{name} must be real: complex values are not supported "
                          "(split a complex equation into its real and imaginary parts)")
+    if array.dtype == bool:
+        raise ValueError(f"{name} must be a real number or an array of them, not a boolean")
     try:
         return np.atleast_1d(array.astype(float))
     except (TypeError, ValueError):
@@ -137,7 +165,7 @@ def check_span(t_span, backward=False):
     return t0, tf
 
 
-def check_grid(t0, tf, h, knots):
+def check_grid(t0, tf, h, knots, max_steps=MAX_STEPS):
     """Validate the step size or the knots.
 
     Returns ``(h, n, knots)``: a uniform grid is ``t_i = t0 + i h`` for
@@ -146,7 +174,9 @@ def check_grid(t0, tf, h, knots):
     The last step is shortened when the span is not a multiple of h; a
     last step shorter than ``SLIVER`` h is merged into the one before it,
     and a step larger than the span becomes one step over the span.  For
-    explicit knots, ``h`` is their largest spacing (signed).
+    explicit knots, ``h`` is their largest spacing (signed).  A grid of
+    more than ``max_steps`` steps is a ValueError: it is refused before it
+    starts, instead of running for hours or exhausting memory.
     """
     if h is not None and knots is not None:
         raise ValueError("give h or knots, not both (neither: adaptive knots)")
@@ -163,6 +193,9 @@ def check_grid(t0, tf, h, knots):
             raise ValueError(
                 f"knots must start at t_span[0] = {t0} and end at t_span[1] = {tf}, "
                 f"got {knots[0]} and {knots[-1]}")
+        if knots.size - 1 > max_steps:
+            raise ValueError(f"knots make {knots.size - 1} steps, more than max_steps = "
+                             f"{max_steps}")
         return direction * float(np.max(np.abs(np.diff(knots)))), knots.size - 1, knots
     if not isinstance(h, numbers.Real) or isinstance(h, bool):
         raise ValueError(f"h must be a real number, got {h!r}")
@@ -171,9 +204,17 @@ def check_grid(t0, tf, h, knots):
         raise ValueError(f"h must be positive and finite, got {h} "
                          "(the direction of integration comes from t_span)")
     span = abs(tf - t0)
-    whole = np.floor(span / h)
-    n = int(whole) + (span / h - whole > SLIVER)
+    ratio = span / h
+    if not ratio <= max_steps + 1:  # also an infinite ratio (h = 1e-300)
+        raise ValueError(f"h = {h:g} over a span of {span:g} makes {ratio:.3g} steps, more "
+                         f"than max_steps = {max_steps}: pass a larger h (or a larger "
+                         "max_steps)")
+    whole = np.floor(ratio)
+    n = int(whole) + (ratio - whole > SLIVER)
     n = max(n, 1)
+    if n > max_steps:  # the sliver rule's extra step past a whole max_steps
+        raise ValueError(f"h = {h:g} over a span of {span:g} makes {n} steps, more than "
+                         f"max_steps = {max_steps}: pass a larger h (or a larger max_steps)")
     if n > MANY_STEPS:
         warnings.warn(f"h = {h:g} over a span of {span:g} makes {n:.3g} steps; this takes "
                       "long, and storing every knot needs "
@@ -186,8 +227,12 @@ def check_tolerances(rtol, atol, first_step, max_step, max_steps, m):
     """Validate the adaptive driver's settings; returns (rtol, atol as an
     (m,) vector, first_step (0 when chosen automatically), max_step,
     max_steps)."""
-    if not (isinstance(rtol, numbers.Real) and np.isfinite(rtol) and rtol > 0):
+    if not (is_real(rtol) and np.isfinite(rtol) and rtol > 0):
         raise ValueError(f"rtol must be a positive finite number, got {rtol!r}")
+    if rtol < RTOL_FLOOR:  # as scipy's solve_ivp: float64 cannot reach it
+        warnings.warn(f"rtol = {rtol:g} is too small for double precision; setting "
+                      f"rtol = {RTOL_FLOOR:g}", UserWarning, stacklevel=3)
+        rtol = RTOL_FLOOR
     atol_array = _real_array(atol, "atol")
     if atol_array.shape not in ((1,), (m,)) or np.ndim(atol) > 1:
         raise ValueError(f"atol must be a number or an array of shape ({m},), "
@@ -196,15 +241,14 @@ def check_tolerances(rtol, atol, first_step, max_step, max_steps, m):
         raise ValueError(f"atol must be positive and finite, got {atol!r}")
     if first_step is None:
         first_step = 0.0
-    elif not (isinstance(first_step, numbers.Real) and np.isfinite(first_step)
+    elif not (is_real(first_step) and np.isfinite(first_step)
               and first_step > 0):
         raise ValueError(f"first_step must be None or a positive finite number, "
                          f"got {first_step!r}")
-    if not (isinstance(max_step, numbers.Real) and max_step > 0) or np.isnan(max_step):
+    if not (is_real(max_step) and max_step > 0) or np.isnan(max_step):
         raise ValueError(f"max_step must be a positive number (inf: no limit), "
                          f"got {max_step!r}")
-    if not (isinstance(max_steps, (int, np.integer)) and max_steps >= 1):
-        raise ValueError(f"max_steps must be an integer >= 1, got {max_steps!r}")
+    max_steps = check_max_steps(max_steps)
     return (float(rtol), np.array(np.broadcast_to(atol_array, (m,)), dtype=float),
             float(first_step), float(max_step), int(max_steps))
 
@@ -213,6 +257,8 @@ def check_t_eval(t_eval, t0, tf):
     """Return t_eval as a sorted float array inside [t0, tf] (or None)."""
     if t_eval is None:
         return None
+    if np.ndim(t_eval) != 1:  # as scipy: a scalar is not a list of times
+        raise ValueError(f"t_eval must be a 1-D array of times, got shape {np.shape(t_eval)}")
     t_eval = _real_array(t_eval, "t_eval")
     if t_eval.ndim != 1 or t_eval.size == 0:
         raise ValueError("t_eval must be a non-empty 1-D array")

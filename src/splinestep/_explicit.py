@@ -193,12 +193,12 @@ LOOP_TYPES = (_compile.INT, _compile.FLOAT, _compile.FLOAT, _compile.INT, _compi
 
 
 
-def run(method, fun, t_span, y0, yp0, h, t_eval, args):
+def run(method, fun, t_span, y0, yp0, h, t_eval, args, max_steps=_base.MAX_STEPS):
     """Validate the arguments, run the loop with ``method`` on the compiled
     or plain path, and return the :class:`OdeResult`."""
     t0, tf = _base.check_span(t_span)
     y0, yp0 = _base.check_state(y0, yp0)
-    h, n, _ = _base.check_grid(t0, tf, h, None)
+    h, n, _ = _base.check_grid(t0, tf, h, None, _base.check_max_steps(max_steps))
     t_eval = _base.check_t_eval(t_eval, t0, tf)
     args = _base.check_args(args)
     if not callable(fun):

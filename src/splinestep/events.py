@@ -34,20 +34,28 @@ class Event:
             raise ValueError(f"events must be callables, got {type(fun).__name__}")
         self.fun = fun
         self.args = args
-        terminal = getattr(fun, "terminal", False)
+        # As in scipy: None, False and 0 are not terminal; True is the first
+        # zero, a positive integer n the n-th.
+        terminal = getattr(fun, "terminal", None)
         if isinstance(terminal, (bool, np.bool_)):
             self.max_count = 1 if terminal else None
+        elif terminal is None or (isinstance(terminal, (int, np.integer)) and terminal == 0):
+            self.max_count = None
         elif isinstance(terminal, (int, np.integer)) and terminal > 0:
             self.max_count = int(terminal)
         else:
-            raise ValueError(f"an event's terminal attribute must be a bool or a positive "
-                             f"integer, got {terminal!r}")
+            raise ValueError(f"an event's terminal attribute must be a bool, None or a "
+                             f"non-negative integer, got {terminal!r}")
         direction = getattr(fun, "direction", 0)
         try:
-            self.direction = float(np.sign(float(direction)))
+            direction = float(direction)
         except (TypeError, ValueError):
             raise ValueError(f"an event's direction attribute must be a number, "
                              f"got {direction!r}") from None
+        if not np.isfinite(direction):
+            raise ValueError(f"an event's direction attribute must be finite (its sign "
+                             f"counts), got {direction!r}")
+        self.direction = float(np.sign(direction))
         self.times = []
         self.states = []
 
@@ -82,6 +90,11 @@ def check_events(events, args):
         return []
     if callable(events):
         events = [events]
+    try:
+        events = list(events)
+    except TypeError:
+        raise ValueError(f"events must be a callable or a sequence of callables, got "
+                         f"{type(events).__name__}") from None
     return [Event(fun, args) for fun in events]
 
 

@@ -4,7 +4,7 @@ equivalent first-order system u = (y, y'), u' = (y', F(t, y, y'))."""
 from ._explicit import RK4, run
 
 
-def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=()):
+def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), max_steps=10**8):
     """Classical fourth-order Runge-Kutta for y'' = F(t, y, y').
 
     The report's comparison method: RK4 on the first-order system
@@ -28,6 +28,8 @@ def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=()):
         interpolation between steps); the steps are then not stored.
     args : tuple, optional
         Extra arguments passed to ``fun``.
+    max_steps : int, optional
+        A grid of more steps is refused before it starts (ValueError).
 
     Returns
     -------
@@ -40,4 +42,4 @@ def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=()):
     .. [1] E. Hairer, S. P. Norsett, G. Wanner, "Solving Ordinary
        Differential Equations I", 2nd ed., Springer (1993), Sec. II.1.
     """
-    return run(RK4, fun, t_span, y0, yp0, h, t_eval, args)
+    return run(RK4, fun, t_span, y0, yp0, h, t_eval, args, max_steps)

@@ -235,7 +235,7 @@ def _spline_loop(fun, args, jac, t0, h, n, knots, tf, y0, yp0, ypp0, jerk0, dt0,
 def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), events=None,
           iteration="fixed-point", iterations=None, tol=1e-12, max_iter=50,
           jac=None, dense_output=False, order=2, rtol=1e-3, atol=1e-6, first_step=None,
-          max_step=np.inf, max_steps=10**7, reuse_jacobian=True):
+          max_step=np.inf, max_steps=_base.MAX_STEPS, reuse_jacobian=True):
     """Solve y'' = F(t, y, y') by cubic-spline time stepping.
 
     Each step extends a C2 cubic spline by one knot and satisfies the ODE at
@@ -323,7 +323,9 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         Adaptive knots: the first step (chosen from y0, yp0 by default) and
         the largest step.
     max_steps : int
-        Adaptive knots: step attempts allowed before the run stops (status -1).
+        The most steps a run may take (default 10**8).  A fixed grid (``h``
+        or ``knots``) of more steps is refused before it starts (ValueError);
+        adaptive knots stop after this many step attempts (status -1).
     reuse_jacobian : bool
         Newton: keep the matrix and its LU factors while the iteration
         converges fast (simplified Newton [4]_); False rebuilds it at every
@@ -374,9 +376,10 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     """
     t0, tf = _base.check_span(t_span, backward=True)
     y0, yp0 = _base.check_state(y0, yp0)
+    _base.check_max_steps(max_steps)
     adaptive = h is None and knots is None
     if not adaptive:
-        h, n, knots = _base.check_grid(t0, tf, h, knots)
+        h, n, knots = _base.check_grid(t0, tf, h, knots, max_steps)
     t_eval = _base.check_t_eval(t_eval, t0, tf)
     args = _base.check_args(args)
     if iteration not in ITERATIONS:
@@ -388,6 +391,9 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     if adaptive:
         rtol, atol, first_step, max_step, max_steps = _base.check_tolerances(
             rtol, atol, first_step, max_step, max_steps, y0.size)
+        if first_step > abs(tf - t0):
+            raise ValueError(f"first_step = {first_step:g} exceeds the span "
+                             f"{abs(tf - t0):g} of t_span")
         if order != 2:
             raise ValueError(f"order={order} needs h or knots: the adaptive knots control "
                              "the error of the order-2 step")
@@ -400,12 +406,11 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         from .bvp import solve_global
         return solve_global(fun, t0, tf, y0, yp0, h, n, knots, t_eval, args, tol, max_iter,
                             jac, dense_output)
-    if not (isinstance(tol, (int, float)) and np.isfinite(tol) and tol > 0):
+    if not (_base.is_real(tol) and np.isfinite(tol) and tol > 0):
         raise ValueError(f"tol must be positive and finite, got {tol!r}")
-    if not (isinstance(max_iter, (int, np.integer)) and max_iter >= 1):
+    if not (_base.is_integer(max_iter) and max_iter >= 1):
         raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
-    if iterations is not None and not (
-            isinstance(iterations, (int, np.integer)) and iterations >= 1):
+    if iterations is not None and not (_base.is_integer(iterations) and iterations >= 1):
         raise ValueError(f"iterations must be None or an integer >= 1, got {iterations!r}")
     if not callable(fun):
         raise ValueError("fun must be callable")
@@ -437,7 +442,11 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     with _compile.loop_callables(path, fun, jac, args) as (loop_fun, loop_jac, loop_args):
         loop = _compile.compiled(
             _spline_loop, _compile.loop_types(loop_fun, loop_jac, loop_args) + _LOOP_TYPES)
-        if not any(ev.max_count for ev in events):
+        # Without a terminal event the run is one piece and its events are
+        # located afterwards; with one, piece by piece as the run goes, and
+        # only there (locating them again would list every zero twice).
+        located = any(ev.max_count for ev in events)
+        if not located:
             out, estimate = loop(loop_fun, loop_args, loop_jac, t0, h, n, knots, tf, y0, yp0,
                                  _EMPTY, _EMPTY, 0.0, t_eval_all, store_knots, *settings)
             terminal = None
@@ -446,7 +455,7 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
                 loop, loop_fun, loop_args, loop_jac, t0, h, n, knots, tf, y0, yp0, t_eval_all,
                 events, settings)
     result, knot_values = _base.build_result(out, t_eval, n_iter)
-    if events and terminal is None:
+    if events and not located:
         T, Y, YP, YPP = knot_values
         locate(events, T, Y, YP, YPP)
     if terminal is not None:
@@ -470,8 +479,9 @@ def _attach_events(result, events, m):
         result.t_events = result.y_events = result.yp_events = None
         return
     result.t_events = [np.array(ev.times) for ev in events]
-    result.y_events = [np.array([s[0] for s in ev.states]).reshape(-1, m) for ev in events]
-    result.yp_events = [np.array([s[1] for s in ev.states]).reshape(-1, m) for ev in events]
+    # As scipy: (k, m) for k zeros, and shape (0,) for none.
+    result.y_events = [np.array([s[0] for s in ev.states]) for ev in events]
+    result.yp_events = [np.array([s[1] for s in ev.states]) for ev in events]
 
 
 def _solve_adaptive(fun, jac, args, path, t0, tf, y0, yp0, t_eval, events, mode, n_iter,

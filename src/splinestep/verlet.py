@@ -5,7 +5,7 @@ conjugate (see ``notebooks/06_theory``)."""
 from ._explicit import VERLET, run
 
 
-def verlet(fun, t_span, y0, yp0, h, *, t_eval=None, args=()):
+def verlet(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), max_steps=10**8):
     """Velocity Verlet for y'' = F(t, y, y').
 
     One evaluation of F per step::
@@ -37,6 +37,8 @@ def verlet(fun, t_span, y0, yp0, h, *, t_eval=None, args=()):
         interpolation between steps); the steps are then not stored.
     args : tuple, optional
         Extra arguments passed to ``fun``.
+    max_steps : int, optional
+        A grid of more steps is refused before it starts (ValueError).
 
     Returns
     -------
@@ -51,4 +53,4 @@ def verlet(fun, t_span, y0, yp0, h, *, t_eval=None, args=()):
        illustrated by the Stormer-Verlet method", Acta Numerica 12 (2003)
        399-450.
     """
-    return run(VERLET, fun, t_span, y0, yp0, h, t_eval, args)
+    return run(VERLET, fun, t_span, y0, yp0, h, t_eval, args, max_steps)

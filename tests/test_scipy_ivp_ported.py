@@ -1,0 +1,207 @@
+"""Tests of scipy's ``solve_ivp`` (scipy/integrate/_ivp/tests/test_ivp.py)
+ported to the second-order signature, run on every path of
+:func:`splinestep.solve` that takes events: uniform steps (fixed-point and
+Newton), given knots, the order-4 composition and adaptive knots.
+
+scipy's harmonic oscillator u' = (u_2, -u_1) from (1, 0) is y'' = -y from
+y = 1, y' = 0, with zeros of y at pi/2 + k pi.  Each test names the scipy
+test it ports; where this package differs from scipy the test says so.
+"""
+
+import numpy as np
+import pytest
+
+import splinestep
+
+PATHS = {
+    "uniform": dict(h=0.01),
+    "newton": dict(h=0.01, iteration="newton"),
+    "knots": dict(knots=np.linspace(0.0, 20.0, 2001)),
+    "order 4": dict(h=0.05, order=4),
+    "adaptive": dict(rtol=1e-10, atol=1e-12),
+}
+SPAN = (0.0, 20.0)
+# The events are located on the run's dense output (the cubic, or the quintic
+# of a composition): errors of order h^2 y''''... at order 2, far less at 4.
+EVENT_TOL = {"uniform": 1e-4, "newton": 1e-4, "knots": 1e-4, "order 4": 1e-5,
+             "adaptive": 1e-6}
+
+
+def oscillator(t, y, yp):
+    return -y
+
+
+def zero_of_y(t, y, yp):
+    return y[0]
+
+
+def event_copy(offset=0.0, **attributes):
+    """A fresh event function y + offset with ``attributes`` (terminal, direction)."""
+    def g(t, y, yp):
+        return y[0] + offset
+    for name, value in attributes.items():
+        setattr(g, name, value)
+    return g
+
+
+@pytest.mark.parametrize("path", PATHS)
+@pytest.mark.parametrize("n_events", [3, 4])
+def test_event_terminal_integer(path, n_events):
+    """scipy test_event_terminal_integer: terminal = n stops at the n-th zero."""
+    res = splinestep.solve(oscillator, SPAN, 1.0, 0.0, events=event_copy(terminal=n_events),
+                           **PATHS[path])
+    assert res.status == 1
+    assert len(res.t_events[0]) == len(res.y_events[0]) == n_events
+    exact = np.pi / 2 + np.pi * np.arange(n_events)
+    assert np.max(np.abs(res.t_events[0] - exact)) < EVENT_TOL[path]
+    assert res.t[-1] == res.t_events[0][-1]
+
+
+@pytest.mark.parametrize("path", PATHS)
+def test_terminal_count_not_reached_lists_each_zero_once(path):
+    """A terminal count larger than the zeros in the span: every zero once,
+    status 0 (the fixed-step path listed each zero twice)."""
+    res = splinestep.solve(oscillator, (0.0, 10.0), 1.0, 0.0, events=event_copy(terminal=4),
+                           **{k: (v[v <= 10.0] if k == "knots" else v)
+                              for k, v in PATHS[path].items()})
+    assert res.status == 0
+    exact = np.pi / 2 + np.pi * np.arange(3)
+    assert res.t_events[0].size == 3
+    assert np.max(np.abs(res.t_events[0] - exact)) < EVENT_TOL[path]
+
+
+@pytest.mark.parametrize("path", PATHS)
+def test_a_terminal_event_that_never_fires_leaves_the_others_once(path):
+    """Two events, one terminal that never fires: the other's zeros once each."""
+    never = event_copy(2.0, terminal=True)                 # |y| <= 1: no zero
+    res = splinestep.solve(oscillator, SPAN, 1.0, 0.0, events=[zero_of_y, never],
+                           **PATHS[path])
+    assert res.status == 0
+    exact = np.pi / 2 + np.pi * np.arange(6)      # the zeros in (0, 20)
+    assert res.t_events[0].size == 6 and res.t_events[1].size == 0
+    assert np.max(np.abs(res.t_events[0] - exact)) < EVENT_TOL[path]
+    assert res.y_events[1].shape == (0,)          # scipy's shape for no zeros
+    assert res.y_events[0].shape == (6, 1)
+
+
+@pytest.mark.parametrize("path", PATHS)
+def test_event_terminal_iv(path):
+    """scipy test_event_terminal_iv: terminal None and 0 are not terminal;
+    -1 and 3.5 are refused."""
+    runs = [splinestep.solve(oscillator, SPAN, 1.0, 0.0, events=event_copy(terminal=t),
+                             **PATHS[path]) for t in (None, 0, False)]
+    for res in runs:
+        assert res.status == 0 and res.t_events[0].size == 6
+        np.testing.assert_array_equal(res.t_events[0], runs[0].t_events[0])
+    for bad in (-1, 3.5):
+        with pytest.raises(ValueError, match="terminal"):
+            splinestep.solve(oscillator, SPAN, 1.0, 0.0, events=event_copy(terminal=bad),
+                             **PATHS[path])
+
+
+@pytest.mark.parametrize("path", PATHS)
+def test_event_direction(path):
+    """scipy test_events (directions): y falls through zero at pi/2 + 2k pi
+    and rises at 3pi/2 + 2k pi; a direction that is not a finite number is
+    refused (scipy would silently find nothing for nan)."""
+    falls = splinestep.solve(oscillator, SPAN, 1.0, 0.0, events=event_copy(direction=-1),
+                             **PATHS[path])
+    rises = splinestep.solve(oscillator, SPAN, 1.0, 0.0, events=event_copy(direction=2.5),
+                             **PATHS[path])
+    assert np.max(np.abs(falls.t_events[0] - (np.pi / 2 + 2 * np.pi * np.arange(3)))) \
+        < EVENT_TOL[path]
+    assert np.max(np.abs(rises.t_events[0] - (3 * np.pi / 2 + 2 * np.pi * np.arange(3)))) \
+        < EVENT_TOL[path]
+    for bad in (np.nan, np.inf, "up"):
+        with pytest.raises(ValueError, match="direction"):
+            splinestep.solve(oscillator, SPAN, 1.0, 0.0, events=event_copy(direction=bad),
+                             **PATHS[path])
+
+
+@pytest.mark.parametrize("events", [1.0, [1.0], "g"])
+def test_events_must_be_callables(events):
+    with pytest.raises(ValueError, match="events"):
+        splinestep.solve(oscillator, SPAN, 1.0, 0.0, h=0.01, events=events)
+
+
+@pytest.mark.parametrize("path", PATHS)
+def test_t_eval_early_event(path):
+    """scipy test_t_eval_early_event: a terminal event before the first t_eval
+    point returns no points, status 1, and the event time exactly."""
+    def early(t, y, yp):
+        return t - 7.0
+    early.terminal = True
+    kwargs = dict(PATHS[path])
+    if "knots" in kwargs:
+        kwargs["knots"] = np.linspace(5.0, 9.0, 401)
+    res = splinestep.solve(oscillator, (5.0, 9.0), 1.0, 0.0, events=early,
+                           t_eval=np.linspace(7.5, 9.0, 16), **kwargs)
+    assert res.success and res.status == 1
+    assert res.t.size == 0 and res.y.shape == (1, 0)
+    assert res.t_events[0].size == 1
+    assert res.t_events[0][0] == pytest.approx(7.0, abs=1e-12)
+
+
+@pytest.mark.parametrize("setting, value", [
+    ("iterations", True), ("max_iter", True), ("tol", True), ("rtol", True),
+    ("y0", True), ("max_steps", True)])
+def test_booleans_are_not_numbers(setting, value):
+    """iterations=True, rtol=True, y0=True ...: a ValueError naming the
+    argument, not a silent 1."""
+    kwargs = dict(y0=1.0, h=None if setting in ("rtol",) else 0.1)
+    kwargs[setting] = value
+    y0 = kwargs.pop("y0")
+    with pytest.raises(ValueError, match=setting):
+        splinestep.solve(oscillator, (0.0, 1.0), y0, 0.0, **kwargs)
+
+
+@pytest.mark.parametrize("solver", ["solve", "rk4", "verlet"])
+@pytest.mark.parametrize("h", [1e-10, 1e-300, 1e-5 / 3])
+def test_a_grid_of_more_than_max_steps_is_refused_before_it_starts(solver, h):
+    """h = 1e-10 over (0, 1) would be 10^10 steps and h = 1e-300 overflows:
+    both are a ValueError at once, as is a grid one step over max_steps."""
+    kwargs = dict(max_steps=3 * 10**5 - 1) if h == 1e-5 / 3 else {}  # 300,000 steps
+    with pytest.raises(ValueError, match="max_steps"):
+        getattr(splinestep, solver)(oscillator, (0.0, 1.0), 1.0, 0.0, h, **kwargs)
+
+
+def test_max_steps_bounds_given_knots_and_allows_exactly_max_steps():
+    with pytest.raises(ValueError, match="max_steps"):
+        splinestep.solve(oscillator, (0.0, 1.0), 1.0, 0.0, knots=np.linspace(0, 1, 12),
+                         max_steps=10)
+    res = splinestep.solve(oscillator, (0.0, 1.0), 1.0, 0.0, 0.1, max_steps=10)
+    assert res.success and res.nstep == 10
+
+
+def test_first_step_beyond_the_span_is_refused():
+    """scipy test_first_step: 'first_step exceeds bounds'."""
+    with pytest.raises(ValueError, match="first_step"):
+        splinestep.solve(oscillator, (0.0, 1.0), 1.0, 0.0, first_step=2.0)
+    res = splinestep.solve(oscillator, (0.0, 1.0), 1.0, 0.0, first_step=1.0)
+    assert res.success
+
+
+def test_rtol_below_what_float64_reaches_warns_and_is_raised():
+    """scipy's common.validate_tol: rtol < 100 eps warns and becomes 100 eps;
+    the run is then the same as one asked for 100 eps."""
+    with pytest.warns(UserWarning, match="rtol"):
+        low = splinestep.solve(oscillator, (0.0, 1.0), 1.0, 0.0, rtol=1e-16, atol=1e-20)
+    floor = splinestep.solve(oscillator, (0.0, 1.0), 1.0, 0.0, rtol=100 * np.finfo(float).eps,
+                             atol=1e-20)
+    np.testing.assert_array_equal(low.y, floor.y)
+
+
+def test_scalar_t_eval_is_refused():
+    """scipy refuses a t_eval that is not 1-D; so does this package now."""
+    with pytest.raises(ValueError, match="t_eval"):
+        splinestep.solve(oscillator, (0.0, 1.0), 1.0, 0.0, 0.1, t_eval=0.5)
+
+
+@pytest.mark.parametrize("solver", ["solve", "rk4", "verlet"])
+def test_empty_state_and_empty_span_are_refused_by_name(solver):
+    """scipy test_empty and test_zero_interval accept both; this package
+    refuses them with a ValueError naming the argument (README)."""
+    with pytest.raises(ValueError, match="y0"):
+        getattr(splinestep, solver)(oscillator, (0.0, 1.0), [], [], 0.1)
+    with pytest.raises(ValueError, match="t_span"):
+        getattr(splinestep, solver)(oscillator, (4.0, 4.0), 1.0, 0.0, 0.1)
