@@ -205,3 +205,24 @@ def test_empty_state_and_empty_span_are_refused_by_name(solver):
         getattr(splinestep, solver)(oscillator, (0.0, 1.0), [], [], 0.1)
     with pytest.raises(ValueError, match="t_span"):
         getattr(splinestep, solver)(oscillator, (4.0, 4.0), 1.0, 0.0, 0.1)
+
+
+@pytest.mark.parametrize("order, degree", [(2, 3), (4, 5)])
+def test_dense_output_derivative_order_is_checked(order, degree):
+    """sol(t, nu) for nu in 0..degree (the cubic's, the quintic's); nu = 1.5
+    was truncated to 1 and nu = 4 on the cubic returned zeros."""
+    res = splinestep.solve(oscillator, (0.0, 1.0), 1.0, 0.0, 0.01, order=order,
+                           dense_output=True)
+    assert abs(res.sol(0.5, degree - 1)[0] - np.cos(0.5 + (degree - 1) * np.pi / 2)) < 1e-2
+    for bad in (1.5, degree + 1, -1, True):
+        with pytest.raises(ValueError, match="nu"):
+            res.sol(0.5, bad)
+
+
+def test_status_codes_are_one_table_of_distinct_codes():
+    """One status table: every code means one thing on every path (the
+    adaptive and reversible loops' 'max_steps reached' were 11 and 21)."""
+    from splinestep import _base, adaptive, reversible, status
+    assert len(set(status.CODES.values())) == len(status.CODES)
+    assert adaptive.TOO_MANY_STEPS == reversible.TOO_MANY_STEPS == status.TOO_MANY_STEPS
+    assert _base.OK == status.OK == 0

@@ -11,6 +11,8 @@ from numba.core.registry import CPUDispatcher
 from numba.extending import overload
 
 from .result import OdeResult
+# The step loops' status codes (one table for every path).
+from .status import BAD_SHAPE, DIVERGED, NON_FINITE, NOT_CONVERGED, OK, SINGULAR
 
 # A last step shorter than this fraction of h is merged into the one before
 # (a span that is a multiple of h up to rounding gets no sliver step).
@@ -43,14 +45,6 @@ def check_max_steps(max_steps):
         raise ValueError(f"max_steps must be an integer >= 1, got {max_steps!r}")
     return int(max_steps)
 
-# Status codes returned by the step loops (the loops cannot raise with a
-# message when compiled, so they report what went wrong as a code).
-OK = 0
-NOT_CONVERGED = 1
-NON_FINITE = 2
-BAD_SHAPE = 3
-SINGULAR = 4
-DIVERGED = 5
 
 _FAILURES = {
     NOT_CONVERGED: "the iteration did not converge in {max_iter} iterations",

@@ -17,9 +17,7 @@ from .controllers import FAILED_FACTOR, error_norm, step_factor
 from .result import OdeResult, SplineSolution
 from .step import step_state, spline_step
 
-# Status codes of the adaptive loop beyond the step's own.
-STEP_TOO_SMALL = 10
-TOO_MANY_STEPS = 11
+from .status import STEP_TOO_SMALL, TOO_MANY_STEPS
 
 
 @njit(cache=True)

@@ -97,6 +97,11 @@ class SplineSolution:
         self.t_min, self.t_max = min(knots[0], knots[-1]), max(knots[0], knots[-1])
 
     def __call__(self, t, nu=0):
+        degree = self.ppoly.c.shape[0] - 1
+        if not (isinstance(nu, (int, np.integer)) and not isinstance(nu, (bool, np.bool_))
+                and 0 <= nu <= degree):
+            raise ValueError(f"nu must be an integer from 0 to {degree} (the interpolant's "
+                             f"degree; higher derivatives are zero), got {nu!r}")
         t = np.asarray(t, dtype=float)
         if np.any((t < self.t_min) | (t > self.t_max)):
             raise ValueError(

@@ -35,9 +35,7 @@ from .result import OdeResult, SplineSolution
 from .step import FIXED_POINT, NEWTON, step_state, spline_step
 
 
-# Status of the loop beyond the step's own.
-RHO_NOT_POSITIVE = 20
-TOO_MANY_STEPS = 21
+from .status import RHO_NOT_POSITIVE, TOO_MANY_STEPS
 
 
 def _reversible_loop(fun, args, jac, control, control_args, t0, tf, y0, yp0, ypp0, eps, rho0,
