@@ -33,7 +33,8 @@ import pandas as pd
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
 import splinestep
-from splinestep import diagnostics, problems
+from splinestep import problems
+from splinestep.analysis import diagnostics
 
 plt = outputs.setup()
 h = 0.5
@@ -87,7 +88,7 @@ outputs.say(
 # We measure $\rho$ and $\Omega h$ from the computed samples alone: they
 # satisfy $y_{n+1} = 2\rho\cos(\Omega h)\, y_n - \rho^2 y_{n-1}$, and a
 # least-squares fit of the two coefficients over 400 steps gives both
-# (`splinestep.diagnostics.recurrence_fit`).  The same fit applied to RK4
+# (`splinestep.analysis.diagnostics.recurrence_fit`).  The same fit applied to RK4
 # shows that the metric sees damping and growth where they exist.
 
 # %%

@@ -31,7 +31,8 @@ import dataclasses
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
-from splinestep import diagnostics, problems
+from splinestep import problems
+from splinestep.analysis import diagnostics
 
 plt = outputs.setup()
 CASES = ("printed", "consistent")

@@ -21,7 +21,8 @@ from scipy.integrate import solve_ivp
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
-from splinestep import diagnostics, problems
+from splinestep import problems
+from splinestep.analysis import diagnostics
 
 plt = outputs.setup()
 STEPS = 0.08 / 2.0 ** np.arange(8)

@@ -17,7 +17,8 @@ from IPython.display import HTML, display
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
 import splinestep
-from splinestep import diagnostics, problems
+from splinestep import problems
+from splinestep.analysis import diagnostics
 from splinestep.problems import kepler
 
 # %%

@@ -3,7 +3,7 @@
 #
 # The report asks for "a formal proof of its convergence" and suggests
 # "higher-order polynomial splines".  This notebook derives the method's
-# properties with a computer algebra system (`splinestep.theory`, sympy),
+# properties with a computer algebra system (`splinestep.analysis.theory`, sympy),
 # checks every derived constant against a measurement made with the
 # package, and then looks at what the theory predicts for long runs:
 # the spline stepper is Stormer-Verlet seen through a change of variables.
@@ -30,8 +30,9 @@ from scipy.integrate import solve_ivp
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
 import splinestep
-from splinestep import check, conjugacy, diagnostics, problems, theory
-from splinestep.higher_degree import solve_degree
+from splinestep import check, problems
+from splinestep.analysis import conjugacy, diagnostics, theory
+from splinestep.analysis.higher_degree import solve_degree
 from splinestep.problems import euler_top, kepler
 
 plt = outputs.setup()
@@ -395,7 +396,7 @@ constants.append(dict(quantity="conjugacy: max |Verlet on f~ - phi(spline)| over
 # ## 5. Higher-degree splines
 # The report's suggestion as it is written: a spline of degree $k$ with
 # $k - 1$ continuous derivatives, collocating the ODE at every knot, one
-# knot per step (`splinestep.higher_degree.solve_degree`; $k = 3$ is the
+# knot per step (`splinestep.analysis.higher_degree.solve_degree`; $k = 3$ is the
 # report's method).  The state at a knot is now $p, p', \dots, p^{(k-1)}$,
 # and for $k \ge 4$ the derivatives beyond $p''$ are extra state.  On
 # $y'' = \lambda y + \mu y'$ one step is a linear map; sympy gives its

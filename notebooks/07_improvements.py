@@ -33,8 +33,9 @@ from scipy.integrate import solve_ivp
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
 import splinestep
-from splinestep import controllers, diagnostics, problems, step
-from splinestep.extrapolation import richardson
+from splinestep import controllers, problems, step
+from splinestep.analysis import diagnostics
+from splinestep.analysis.extrapolation import richardson
 
 plt = outputs.setup()
 
@@ -474,7 +475,7 @@ outputs.say(
 # the exact orbit (Kepler's equation).  Then the work against precision over
 # $t \in [0, 50]$, $h = 0.08 \dots 0.005$: the compositions, Richardson
 # extrapolation of the report's method ($(4 y_{h/2} - y_h)/3$,
-# `splinestep.extrapolation`), RK4 and DOP853.
+# `splinestep.analysis.extrapolation`), RK4 and DOP853.
 
 # %%
 period_ellipse = problems.orbit_elements(0.6)["period"]

@@ -6,7 +6,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from splinestep import diagnostics, problems
+from splinestep import problems
+from splinestep.analysis import diagnostics
 
 
 @pytest.mark.parametrize("x", [0.5, 1.5, 2.5])

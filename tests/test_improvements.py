@@ -415,7 +415,7 @@ def test_rk4_passes_the_composition_energy_error_at_the_same_orbit_two_ways():
     error must not grow (last within 1.5 times the first)."""
     import pandas as pd
     from pathlib import Path
-    from splinestep.diagnostics import loglog_interp
+    from splinestep.analysis.diagnostics import loglog_interp
     data = pd.read_csv(Path(__file__).resolve().parents[1] / "data" / "composition-energy.csv")
     order4 = data[data.method == "spline, order 4"].set_index("orbit").energy_error
     rk4 = data[data.method == "RK4, same work"].set_index("orbit").energy_error

@@ -226,3 +226,16 @@ def test_status_codes_are_one_table_of_distinct_codes():
     assert len(set(status.CODES.values())) == len(status.CODES)
     assert adaptive.TOO_MANY_STEPS == reversible.TOO_MANY_STEPS == status.TOO_MANY_STEPS
     assert _base.OK == status.OK == 0
+
+
+def test_the_solver_imports_no_analysis_and_no_sympy():
+    """The analysis (sympy theory, diagnostics, conjugacy, higher degrees,
+    extrapolation) lives in splinestep.analysis, which the solver never
+    imports: a fresh interpreter importing splinestep loads neither."""
+    import subprocess
+    import sys
+    code = ("import sys, splinestep; "
+            "print(any(m == 'sympy' or m.startswith('splinestep.analysis') for m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    assert out == "False"

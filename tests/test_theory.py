@@ -1,4 +1,4 @@
-"""The derived constants of splinestep.theory against measurements made with
+"""The derived constants of splinestep.analysis.theory against measurements made with
 the package: local errors, period error, stability limit, the Verlet
 conjugacy, the higher-degree splines, and Verlet's order."""
 
@@ -6,8 +6,9 @@ import numpy as np
 import sympy as sp
 
 import splinestep
-from splinestep import conjugacy, diagnostics, problems, theory
-from splinestep.higher_degree import solve_degree
+from splinestep import problems
+from splinestep.analysis import conjugacy, diagnostics, theory
+from splinestep.analysis.higher_degree import solve_degree
 
 
 def test_local_error_constants_match_one_measured_step():

@@ -8,7 +8,7 @@ at a knot estimates the fourth derivative,
 
 with an error O(h) (the two interval means of y''' sit (h_i + h_{i-1})/2
 apart).  A step from exact values misses, to leading order, h^4 y''''/24 in y and
-h^3 y''''/12 in y' (:mod:`splinestep.theory`), so
+h^3 y''''/12 in y' (:mod:`splinestep.analysis.theory`), so
 
     est_y = h^4 |y''''| / 24,   est_y' = |h|^3 |y''''| / 12.
 

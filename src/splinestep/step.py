@@ -47,7 +47,7 @@ YP_START = 0.5         # y'_new holds dt y'' / 2
 
 # Leading local errors of one step from exact values when y'''' is
 # constant: the step misses h^4 y''''/24 in y and h^3 y''''/12 in y'
-# (Taylor expansion of the step, derived in splinestep.theory).
+# (Taylor expansion of the step, derived in splinestep.analysis.theory).
 ERR_Y = 1.0 / 24.0
 ERR_YP = 1.0 / 12.0
 

@@ -33,8 +33,8 @@ import numbers
 
 import numpy as np
 
-from . import _base
-from .result import OdeResult
+from .. import _base
+from ..result import OdeResult
 
 MIN_DEGREE = 3
 

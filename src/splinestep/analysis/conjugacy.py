@@ -26,8 +26,8 @@ References
 import numpy as np
 from numba import njit
 
-from . import _base
-from .step import Y_WEIGHT, solve_linear
+from .. import _base
+from ..step import Y_WEIGHT, solve_linear
 
 # Newton's method for y from Y: stop when the correction is below this
 # times max(1, |y|), or after NEWTON_ITERATIONS (quadratic convergence from

@@ -10,7 +10,7 @@ whose interpolation error is O(h^4) too.
 
 import numpy as np
 
-from .spline import solve
+from ..spline import solve
 
 
 def richardson(fun, t_span, y0, yp0, h, *, t_eval, args=(), **kwargs):
