@@ -334,10 +334,10 @@ reversible = splinestep.solve_reversible(long_orbit.fun, long_orbit.t_span, long
                                          long_orbit.yp0, EPS, problems.step_size_control,
                                          args=long_orbit.args)
 controlled = long_orbit.solve(h="adaptive", rtol=1e-6, atol=1e-9)
-long_rows = []
+long_rows, by_orbit = [], {}
 for label, res in (("reversible steps", reversible), ("adaptive knots, rtol 1e-6", controlled)):
     orbit = np.minimum(np.floor(res.t / period).astype(int), ORBITS - 1) + 1
-    signed = pd.Series(energy(res.y, res.yp) - e0).groupby(orbit)
+    by_orbit[label] = signed = pd.Series(energy(res.y, res.yp) - e0).groupby(orbit)
     error = signed.apply(lambda g: g.abs().max())
     long_rows.append(pd.DataFrame(dict(method=label, orbit=error.index, energy_error=error.values,
                                        nfev_per_orbit=res.nfev / ORBITS)))
@@ -352,8 +352,7 @@ print(f"adaptive:   {controlled.nfev / ORBITS:.0f} evaluations per orbit, larges
       f"{outputs.sci(ctl_err[-30:].max(), 2)}")
 # Where the adaptive run's error passes through zero: the orbits across which
 # the largest and the smallest H - H0 of an orbit change sign.
-ctl_signed = pd.Series(energy(controlled.y, controlled.yp) - e0).groupby(
-    np.minimum(np.floor(controlled.t / period).astype(int), ORBITS - 1) + 1)
+ctl_signed = by_orbit["adaptive knots, rtol 1e-6"]
 both_signs = np.flatnonzero((ctl_signed.max() > 0) & (ctl_signed.min() < 0)) + 1
 runs = np.split(both_signs, np.flatnonzero(np.diff(both_signs) > 1) + 1)
 through_zero = " and ".join(f"{r[0]}-{r[-1]}" for r in runs if r.size)
@@ -487,18 +486,23 @@ wanted = ((windows[:, None] + (np.arange(64)[None, :] + 0.5) / 64) * period_elli
 t_long = LONG_ORBITS * period_ellipse
 energy_ellipse = ellipse.invariants["energy"]
 LONG_STEP = 0.08
-long_runs, long_steps = {}, {}
+
+
+def at_steps(step):
+    """The wanted sample times moved to the nearest multiple of ``step``."""
+    return step * np.round(wanted / step)
+
+
+long_runs = {}
 for order in (2, 4):
-    long_steps[f"spline, order {order}"] = LONG_STEP
     long_runs[f"spline, order {order}"] = splinestep.solve(
         ellipse.fun, (0.0, t_long), ellipse.y0, ellipse.yp0, LONG_STEP, args=ellipse.args,
-        order=order, t_eval=LONG_STEP * np.round(wanted / LONG_STEP))
+        order=order, t_eval=at_steps(LONG_STEP))
 per_step_4 = long_runs["spline, order 4"].nfev / (t_long / LONG_STEP)
-long_steps["RK4, same work"] = 4 * LONG_STEP / per_step_4
+rk4_step = 4 * LONG_STEP / per_step_4
 long_runs["RK4, same work"] = splinestep.rk4(
-    ellipse.fun, (0.0, t_long), ellipse.y0, ellipse.yp0, long_steps["RK4, same work"],
-    args=ellipse.args,
-    t_eval=long_steps["RK4, same work"] * np.round(wanted / long_steps["RK4, same work"]))
+    ellipse.fun, (0.0, t_long), ellipse.y0, ellipse.yp0, rk4_step, args=ellipse.args,
+    t_eval=at_steps(rk4_step))
 long_energy = []
 for method, res in long_runs.items():
     windowed = {
