@@ -14,7 +14,8 @@ Prints one table (and writes it into README.md between the markers
   (RK45, DOP853) on the same function;
 - process times: importing splinestep, the first solve of a new process
   with numba's disk cache warm and with it empty, numba's own first-call
-  cost;
+  cost, and the CPU seconds of compiling every path for a new compiled
+  right-hand-side type (benchmarks/compile_time.py);
 - the two commands as a reader meets them: a fresh clone of the committed
   state (``git clone`` of this repository), ``make reproduce`` (which
   installs .venv from environment.txt, pip's download cache as it is, and
@@ -49,6 +50,7 @@ from splinestep import problems
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path[:0] = [str(HERE), str(ROOT / "scripts")]
+import compile_time  # noqa: E402
 import numba_reference  # noqa: E402
 
 SWEEPS = 2               # fixed-point sweeps per step in the compiled rows, as in C
@@ -247,6 +249,7 @@ def process_rows():
         _, cold_spline, cold_rk4 = new_process(FIRST_SOLVE, env={"NUMBA_CACHE_DIR": cache})
     rows.append(("first spline solve, cache empty (compiles)", cold_spline))
     rows.append(("first rk4 solve, cache empty (compiles)", cold_rk4))
+    rows += compile_time.compile_rows()[0]
     return rows
 
 

@@ -57,7 +57,7 @@ def test_fixed_number_of_sweeps(k):
     problem = problems.cannonball(0.5)
     res = problem.solve("spline", iterations=k)
     assert res.nstep == 5000
-    assert res.nfev == 1 + k * res.nstep
+    assert res.nfev == 1 + k * res.nstep + 3 * (2 * 2 + 1)  # the start, the steps, the check
     assert res.niter == k * res.nstep
 
 
@@ -71,11 +71,14 @@ def test_newton_exact_in_one_iteration_on_linear_problem():
     one = splinestep.solve(fun, (0, 10), 1.0, 0.0, 0.05, iteration="newton",
                            iterations=1, jac=jac, reuse_jacobian=False)
     assert np.max(np.abs(one.y - converged.y)) < 1e-13
-    assert one.nfev == 1 + one.nstep and one.njev == one.nstep
+    # Every call counted: fun at t0, once per step; jac at t0 (the argument
+    # check), once per step, and at the three states of the step-size check.
+    assert one.nfev == 1 + one.nstep and one.njev == 1 + one.nstep + 3
     one_fd = splinestep.solve(fun, (0, 10), 1.0, 0.0, 0.05, iteration="newton", iterations=1,
                               reuse_jacobian=False)
     assert np.max(np.abs(one_fd.y - converged.y)) < 1e-8
-    assert one_fd.nfev == 1 + 2 * one_fd.nstep  # residual + one difference column
+    # residual + one difference column per step, 3 (2m + 1) for the check
+    assert one_fd.nfev == 1 + 2 * one_fd.nstep + 3 * 3
 
 
 def test_one_sweep_is_already_second_order():

@@ -1,6 +1,6 @@
-"""What the steppers share: argument validation (in one place), the step grid,
-the choice between the compiled and the plain-Python loop, and the assembly
-of the result object."""
+"""What the front doors share: argument validation (in one place, as
+scipy's ``_ivp/common.py``), the step grid, and the choice between the
+compiled and the plain-Python path."""
 
 import numbers
 import warnings
@@ -10,9 +10,7 @@ from numba.core import types
 from numba.core.registry import CPUDispatcher
 from numba.extending import overload
 
-from .result import OdeResult
-# The step loops' status codes (one table for every path).
-from .status import BAD_SHAPE, DIVERGED, NON_FINITE, NOT_CONVERGED, OK, SINGULAR
+from .status import short
 
 # A last step shorter than this fraction of h is merged into the one before
 # (a span that is a multiple of h up to rounding gets no sliver step).
@@ -44,27 +42,6 @@ def check_max_steps(max_steps):
     if not (is_integer(max_steps) and max_steps >= 1):
         raise ValueError(f"max_steps must be an integer >= 1, got {max_steps!r}")
     return int(max_steps)
-
-
-_FAILURES = {
-    NOT_CONVERGED: "the iteration did not converge in {max_iter} iterations",
-    NON_FINITE: "the right-hand side returned a value that is not finite",
-    BAD_SHAPE: "the right-hand side returned an array of the wrong shape "
-               "(expected shape ({m},))",
-    SINGULAR: "the Newton matrix is singular or its solution is not finite",
-    DIVERGED: "the iteration diverged (an iterate of y or y' is not finite)",
-}
-
-
-# What to try when a step fails, appended to the message.
-_HINTS = {
-    NOT_CONVERGED: " Try a smaller h, or iteration=\"newton\" (the fixed-point sweep "
-                   "converges only while h^2/6 |dF/dy| + h/2 |dF/dyp| < 1).",
-    SINGULAR: " Try a smaller h: the step equation may have no solution at this h.",
-    NON_FINITE: " The solution may blow up here, or the step may be too large.",
-    DIVERGED: " Try a smaller h, or iteration=\"newton\" (the fixed-point sweep "
-              "converges only while h^2/6 |dF/dy| + h/2 |dF/dyp| < 1).",
-}
 
 
 def as_vector(g):
@@ -138,9 +115,6 @@ def _real_array(value, name):
                          f"got {type(value).__name__}") from None
 
 
-def short(t):
-    """A time for a message: the shortest repr of ``t`` to 10 digits."""
-    return f"{t:.10g}"
 
 
 def check_span(t_span, backward=False):
@@ -380,33 +354,3 @@ def choose_path(fun, jac, args):
         return "plain"
     check_compiled_args(args)
     return "compiled"
-
-
-def failure(status, max_iter, m):
-    """What a step status means, for a message."""
-    return _FAILURES[status].format(max_iter=max_iter, m=m)
-
-
-def build_result(out, t_eval, max_iter):
-    """Turn the tuple returned by a step loop into an :class:`OdeResult`."""
-    (status, fail_step, t_last, t_fail, nfev, njev, niter, nstep, n_knots, n_eval,
-     T, Y, YP, YPP, YE, YPE, YPPE) = out
-    m = Y.shape[1]
-    if t_eval is None:
-        t, y, yp, ypp = T[:n_knots], Y[:n_knots], YP[:n_knots], YPP[:n_knots]
-    else:
-        t, y, yp, ypp = t_eval[:n_eval], YE[:n_eval], YPE[:n_eval], YPPE[:n_eval]
-    if status == OK:
-        message = "The solver successfully reached the end of the integration interval."
-    elif fail_step == 0:
-        message = (f"The initial evaluation at t = {short(t_fail)} failed: "
-                   f"{_FAILURES[status].format(max_iter=max_iter, m=m)}.")
-    else:
-        message = (f"Step {fail_step} (from t = {short(t_last)} to t = {short(t_fail)}) "
-                   f"failed: {_FAILURES[status].format(max_iter=max_iter, m=m)}. "
-                   f"Returning the {nstep} steps completed before it.{_HINTS.get(status, '')}")
-    return OdeResult(
-        t=t.copy(), y=y.T.copy(), yp=yp.T.copy(), ypp=ypp.T.copy(), sol=None,
-        nfev=int(nfev), njev=int(njev), niter=int(niter), nstep=int(nstep),
-        status=0 if status == OK else -1, message=message, success=status == OK), \
-        (T[:n_knots], Y[:n_knots], YP[:n_knots], YPP[:n_knots])

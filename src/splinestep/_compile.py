@@ -37,7 +37,6 @@ import numpy as np
 from numba import njit, objmode, typeof, types
 from numba.core import caching
 
-from ._base import as_vector
 
 PACKAGE = Path(__file__).resolve().parent
 
@@ -176,21 +175,55 @@ def _python_jac(t, y, yp, key):
     return fy, fyp
 
 
-def _vector(value):
-    """The value of a plain ``fun`` as a new float vector; any shape other
-    than 1-D becomes an empty vector, which the loop reports as the wrong
-    shape (a scalar is the one component of m = 1)."""
-    g = as_vector(value)
-    return g.copy() if g.ndim == 1 else np.empty(0)
+# Why a plain ``fun`` or ``jac`` returned a value the loop cannot use, by the
+# key of its callbacks: the loop sees only a wrong shape or a NaN, the front
+# door reads the sentence here (:func:`reason`).
+_REASONS = {}
 
 
-def _matrices(value, m):
-    """(dF/dy, dF/dyp) of a plain ``jac`` as new (m, m) float arrays; a wrong
-    shape becomes NaN, which the loop reports as a failed Newton solve."""
-    parts = [np.array(part, dtype=np.float64, ndmin=2) for part in value]
+def _vector(key, t, value, m):
+    """The value of a plain ``fun`` as a new float vector.  What no step can
+    use (None, complex or non-numeric values, the wrong shape) becomes an
+    empty vector, which the loop reports as the wrong shape, and its reason
+    is kept for the message (a scalar is the one component of m = 1)."""
+    try:
+        array = np.asarray(value)
+    except (TypeError, ValueError):
+        array = np.asarray(None)
+    if value is None or array.dtype.kind not in "iufb":
+        what = ("complex values" if array.dtype.kind == "c" else
+                "None" if value is None else f"a {type(value).__name__}")
+        _REASONS.setdefault(key, f"fun returned {what} at t = {t:.10g} (it must return "
+                                 f"{m} real numbers)")
+        return np.empty(0)
+    g = np.atleast_1d(array.astype(np.float64))
+    if g.shape != (m,):
+        _REASONS.setdefault(key, f"fun returned an array of shape {array.shape} at "
+                                 f"t = {t:.10g} (expected shape ({m},))")
+        return np.empty(0)
+    return g
+
+
+def _matrices(key, t, value, m):
+    """(dF/dy, dF/dyp) of a plain ``jac`` as new (m, m) float arrays; what
+    is not two such arrays becomes NaN, which the loop reports as a failed
+    Newton solve, and its reason is kept for the message."""
+    try:
+        parts = [np.array(part, dtype=np.float64, ndmin=2) for part in value]
+    except (TypeError, ValueError):
+        parts = []
     if len(parts) != 2 or any(part.shape != (m, m) for part in parts):
+        _REASONS.setdefault(key, f"jac did not return two arrays of shape ({m}, {m}) at "
+                                 f"t = {t:.10g}")
         return np.full((m, m), np.nan), np.full((m, m), np.nan)
     return parts[0], parts[1]
+
+
+def reason(loop_args):
+    """The reason kept for the plain callbacks called with ``loop_args``
+    (None on the compiled path, or when nothing was wrong)."""
+    key = loop_args[0] if len(loop_args) == 1 and isinstance(loop_args[0], float) else None
+    return _REASONS.pop(key, None)
 
 
 @contextlib.contextmanager
@@ -198,21 +231,26 @@ def python_callbacks(fun, jac, args):
     """Within the block, ``(fun, jac, args)`` for a step loop that calls the
     plain-Python ``fun`` and ``jac`` (or None) with ``args``."""
     key = float(next(_KEYS))
-    _FUNS[key] = lambda t, y, yp: _vector(fun(t, y, yp, *args))
+    _FUNS[key] = lambda t, y, yp: _vector(key, t, fun(t, y, yp, *args), y.shape[0])
     if jac is not None:
-        _JACS[key] = lambda t, y, yp: _matrices(jac(t, y, yp, *args), y.shape[0])
+        _JACS[key] = lambda t, y, yp: _matrices(key, t, jac(t, y, yp, *args), y.shape[0])
     try:
         yield _python_fun, (None if jac is None else _python_jac), (key,)
     finally:
         _FUNS.pop(key, None)
         _JACS.pop(key, None)
+        _REASONS.pop(key, None)
 
 
 def scalar_callable(path, f, args):
     """A context giving a scalar function ``f(t, y, yp, *args)`` (a step-size
     control) in the form a compiled loop calls it: ``(f, args)`` when ``f``
     is compiled and the loop runs on the compiled path, else a trampoline
-    into the interpreter and the number that finds ``f``."""
+    into the interpreter and the number that finds ``f``.  Without ``f``
+    (None), the trampoline with a key that finds nothing: the loop never
+    calls it, and shares its compiled code with runs whose ``f`` is plain."""
+    if f is None:
+        return contextlib.nullcontext((_python_scalar, (-1.0,)))
     if path == "compiled" and isinstance(f, type(_python_scalar)):
         return contextlib.nullcontext((f, args))
     return _scalar_callback(f, args)
@@ -234,3 +272,45 @@ def loop_callables(path, fun, jac, args):
     if path == "plain":
         return python_callbacks(fun, jac, args)
     return contextlib.nullcontext((fun, jac, args))
+
+
+# Events.  The driver calls :func:`python_events` after each accepted step;
+# it finds the run's :class:`splinestep.events.Tracker` by its key and asks
+# it whether the step holds a zero (1: a terminal one, whose time it returns
+# and whose state it writes into ``out``; 2: an event function raised).
+_TRACKERS = {}
+
+
+def _call_events(key, t, t_new, kind, state, out):
+    return _TRACKERS[key].step(t, t_new, kind, state, out)
+
+
+@njit(cache=True)
+def python_events(key, t, t_new, kind, state, out):
+    with objmode(stop="int64", t_event="float64"):
+        stop, t_event = _call_events(key, t, t_new, kind, state, out)
+    return stop, t_event
+
+
+@contextlib.contextmanager
+def event_tracker(tracker):
+    """Within the block, the key by which the driver finds ``tracker``
+    (-1.0 for None: no events)."""
+    if tracker is None:
+        yield -1.0
+        return
+    key = float(next(_KEYS))
+    _TRACKERS[key] = tracker
+    try:
+        yield key
+    finally:
+        _TRACKERS.pop(key, None)
+
+
+def compiled_driver(drive, fun, jac, args, control, control_args, *records):
+    """The driver compiled (or loaded from the disk cache) for the types of
+    ``fun``, ``args``, ``jac``, ``control`` and the settings ``records``."""
+    fun_type, args_type, jac_type = loop_types(fun, jac, args)
+    control_type = function_type(control, tuple(typeof(control_args)))
+    return compiled(drive, (fun_type, args_type, jac_type, control_type, typeof(control_args))
+                    + tuple(typeof(r) for r in records))

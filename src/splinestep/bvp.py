@@ -7,7 +7,7 @@ The unknowns are y, y' and y'' at every knot t_0..t_n (3m(n + 1) numbers,
 stored knot after knot).  The equations are the step relations of each
 interval (:func:`splinestep.step.relations`, 2m each), the collocation
 z_i = F(t_i, y_i, y'_i) at each knot (m each) and 2m boundary conditions:
-y and y' at t_0 for an initial value problem (:func:`solve_global`), y at
+y and y' at t_0 for an initial value problem (``solve(..., iteration="global")``), y at
 both ends for a boundary value problem (:func:`solve_bvp`).  Ordered knot
 by knot, the Jacobian is block-bidiagonal with bandwidth below 6m; it is
 factorised by SuperLU (``scipy.sparse.linalg.splu``) in its natural column
@@ -31,7 +31,7 @@ import numpy as np
 
 from . import _base
 from ._base import FD_STEP
-from .result import OdeResult, SplineSolution
+from .result import SplineSolution, new_result
 from .step import YP_START, YP_WEIGHT, Y_START, Y_WEIGHT, relations
 
 
@@ -189,39 +189,18 @@ def newton(fun, jac, args, t, U, boundary, tol, max_iter):
                 "iterations; try a better y_guess or a finer mesh."), max_iter, nfev, njev
 
 
-def _result(t, U, status, message, niter, nfev, njev, t_eval=None, dense_output=True):
+def result(t, U, status, message, niter, nfev, njev, t_eval=None, dense_output=True):
+    """The :class:`OdeResult` of a whole-trajectory solve on the knots ``t``
+    (the same keys as every solver's; no local error estimate)."""
     T, Y, YP, Z = t, U[:, 0], U[:, 1], U[:, 2]
     sol = SplineSolution(T, Y, YP, Z)
     if t_eval is not None:
         t_out, y, yp, ypp = t_eval, sol(t_eval), sol(t_eval, 1), sol(t_eval, 2)
     else:
         t_out, y, yp, ypp = T.copy(), Y.T.copy(), YP.T.copy(), Z.T.copy()
-    return OdeResult(t=t_out, y=y, yp=yp, ypp=ypp, sol=sol if dense_output else None,
-                     nfev=nfev, njev=njev, niter=niter, nstep=T.size - 1, status=status,
-                     message=message, success=status == 0, t_events=None, y_events=None,
-                     yp_events=None, local_error=np.nan, local_error_yp=np.nan,
-                     t_local_error=np.nan, path="plain", order=2)
-
-
-def solve_global(fun, t0, tf, y0, yp0, h, n, knots, t_eval, args, tol, max_iter, jac,
-                 dense_output):
-    """``solve(..., iteration="global")``: the initial value problem on the
-    given knots, solved by :func:`newton` on the whole trajectory from the
-    guess of one fixed-point sweep per step (the stepper's cheapest pass)."""
-    from .spline import solve
-    if knots.size == 0:
-        knots = t0 + h * np.arange(n + 1)
-        knots[-1] = tf
-    guess = solve(fun, (t0, tf), y0, yp0, knots=knots, args=args, iterations=1)
-    if not guess.success:
-        return guess
-    U = np.stack([guess.y.T, guess.yp.T, guess.ypp.T], axis=1)
-    status, message, niter, nfev, njev = newton(
-        fun, jac, args, knots, U, [(0, 0, y0), (0, 1, yp0)], tol, max_iter)
-    result = _result(knots, U, status, message, niter, nfev + guess.nfev, njev, t_eval,
-                     dense_output)
-    result.nfev_guess = guess.nfev
-    return result
+    return new_result(t=t_out, y=y, yp=yp, ypp=ypp, sol=sol if dense_output else None,
+                      nfev=nfev, njev=njev, niter=niter, nstep=T.size - 1,
+                      status=0 if status == 0 else -1, message=message)
 
 
 def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-10, max_iter=50,
@@ -322,4 +301,4 @@ def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-10, max
         status, message, niter, nfev, njev = newton(
             fun, jac, args, x, U, bc if bc is not None else [(0, 0, ya), (x.size - 1, 0, yb)],
             tol, max_iter)
-    return _result(x, U, status, message, niter, nfev, njev)
+    return result(x, U, status, message, niter, nfev, njev)

@@ -46,10 +46,11 @@ GROWTH_MARGIN = 1e-3
 
 
 def jacobians(fun, jac, args, t, y, yp):
-    """(dF/dy, dF/dy') at (t, y, y'): from ``jac``, or by forward differences."""
+    """(dF/dy, dF/dy', evaluations of fun, evaluations of jac) at (t, y,
+    y'): from ``jac``, or by forward differences (2m + 1 evaluations)."""
     if jac is not None:
         fy, fyp = jac(t, y.copy(), yp.copy(), *args)
-        return np.asarray(fy, dtype=float), np.asarray(fyp, dtype=float)
+        return np.asarray(fy, dtype=float), np.asarray(fyp, dtype=float), 0, 1
     m = y.size
     g = np.atleast_1d(np.asarray(fun(t, y.copy(), yp.copy(), *args), dtype=float))
     fy, fyp = np.empty((m, m)), np.empty((m, m))
@@ -61,7 +62,7 @@ def jacobians(fun, jac, args, t, y, yp):
             args_k = (shifted, yp) if x is y else (y, shifted)
             value = fun(t, args_k[0].copy(), args_k[1].copy(), *args)
             d[:, k] = (np.atleast_1d(np.asarray(value, dtype=float)) - g) / step
-    return fy, fyp
+    return fy, fyp, 2 * m + 1, 0
 
 
 def amplification(fy, fyp, h, y_weight, yp_weight):
@@ -79,10 +80,13 @@ def amplification(fy, fyp, h, y_weight, yp_weight):
 
 
 def growth(fy, fyp, h, y_weight, yp_weight):
-    """(rho of the step's amplification matrix, rho of the exact flow over h)."""
+    """(rho of the step's amplification matrix, rho of the exact flow over
+    h): the largest |exp(h lambda)| over the eigenvalues lambda of the
+    linearised flow, so that a backward step (h < 0) is compared with the
+    backward flow."""
     m = fy.shape[0]
     flow = np.block([[np.zeros((m, m)), np.eye(m)], [fy, fyp]])
-    exact = float(np.exp(abs(h) * np.max(np.linalg.eigvals(flow).real)))
+    exact = float(np.exp(np.max((h * np.linalg.eigvals(flow)).real)))
     try:
         step = float(np.max(np.abs(np.linalg.eigvals(
             amplification(fy, fyp, h, y_weight, yp_weight)))))
@@ -91,16 +95,20 @@ def growth(fy, fyp, h, y_weight, yp_weight):
     return step, exact
 
 
-def report(result, estimate, fun, jac, args, h, t0, y0, yp0, y_weight, yp_weight):
-    """Attach the run's error estimate to ``result`` and warn (in a
-    ``UserWarning`` and in ``result.message``) when the step is far too large
-    for the solution."""
-    err_y, t_err, err_yp, y_scale, yp_scale, y_at_err, yp_at_err = estimate[:7]
-    y_end, yp_end = estimate[7], estimate[8]
+def report(result, run, fun, jac, args, t0, y0, yp0, y_weight, yp_weight):
+    """Attach the run's error estimate (``run``: the driver's
+    :class:`splinestep.driver.Run`) to ``result``, warn (in a
+    ``UserWarning`` and in ``result.message``) when the step is far too
+    large for the solution, and count the evaluations the check makes in
+    ``result.nfev`` and ``result.njev``.  The linearised step is taken at
+    the step the run took there: the first, the one where the estimate is
+    largest, the last."""
+    (err_y, t_err, err_yp, y_scale, yp_scale, dt_err, dt_first,
+     dt_last) = (float(v) for v in run.estimate)
     estimated = result.nstep >= 2
-    result.local_error = float(err_y) if estimated else np.nan
-    result.local_error_yp = float(err_yp) if estimated else np.nan
-    result.t_local_error = float(t_err) if estimated else np.nan
+    result.local_error = err_y if estimated else np.nan
+    result.local_error_yp = err_yp if estimated else np.nan
+    result.t_local_error = t_err if estimated else np.nan
     if result.nstep == 0:
         return
     findings = []
@@ -109,16 +117,19 @@ def report(result, estimate, fun, jac, args, h, t0, y0, yp0, y_weight, yp_weight
             f"the estimated local error ({err_y:.2g} in y, {err_yp:.2g} in y', largest at "
             f"t = {_base.short(t_err)}) exceeds {LOCAL_FRACTION:g} of the solution's size "
             f"(max |y| = {y_scale:.3g}, max |y'| = {yp_scale:.3g})")
-    t_end = result.t[-1] if result.t.size else t0
-    for where, t, y, yp in (("initial", t0, y0, yp0), ("largest-error", t_err, y_at_err,
-                                                       yp_at_err), ("final", t_end, y_end,
-                                                                    yp_end)):
-        if not (np.all(np.isfinite(y)) and np.all(np.isfinite(yp))):
+    states = (("initial", t0, y0, yp0, dt_first),
+              ("largest-error", t_err, run.y_at_err, run.yp_at_err, dt_err if estimated
+               else dt_first),
+              ("final", run.t_last, run.y_end, run.yp_end, dt_last))
+    for where, t, y, yp, h in states:
+        if not (np.all(np.isfinite(y)) and np.all(np.isfinite(yp))) or h == 0.0:
             continue
         try:
-            fy, fyp = jacobians(fun, jac, args, t, y, yp)
+            fy, fyp, nfev, njev = jacobians(fun, jac, args, t, y, yp)
         except (ArithmeticError, ValueError):
             continue
+        result.nfev += nfev
+        result.njev += njev
         if not (np.all(np.isfinite(fy)) and np.all(np.isfinite(fyp))):
             continue
         rho, rho_exact = growth(fy, fyp, h, y_weight, yp_weight)

@@ -1,4 +1,20 @@
-"""Step-size controllers: which knot comes next after a spline step.
+"""Step-size controllers: which knot comes next, and whether to keep a step.
+
+The driver (:mod:`splinestep.driver`) asks its controller for the next
+knot before each step and, for error control, whether to accept the step
+just taken.  Three controllers, selected by :attr:`Control.kind`:
+
+- :data:`CONSTANT`: the knots are given, as a uniform step h (the last step
+  shortened to end at tf) or as an array; every step is accepted.
+- :data:`ERROR`: the knots follow the spline's own error estimate (below),
+  with rejected steps retried smaller.
+- :data:`REVERSIBLE`: the steps are eps / rho, with rho following Hairer and
+  Soderlind's symmetric recursion (:mod:`splinestep.reversible`), so that a
+  run backwards retraces its knots.
+
+A new controller is a new ``kind`` here (its settings in :class:`Control`,
+its proposal in :func:`propose`) and one branch of the driver's acceptance;
+the loop, the events, the output and the checks stay as they are.
 
 The spline's own error estimate.  The third derivative of the cubic is
 constant on each interval, j_i = (y''_{i+1} - y''_i) / h_i, and its jump
@@ -32,18 +48,121 @@ References
    Dyn. 20 (1991) 871-887.
 .. [2] E. Hairer, S. P. Norsett, G. Wanner, "Solving Ordinary Differential
    Equations I", 2nd ed., Springer (1993), Sec. II.4.
+.. [3] E. Hairer, G. Soderlind, "Explicit, time reversible, adaptive step
+   size control", SIAM J. Sci. Comput. 26 (2005) 1838-1851.
 """
+
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
 
+from .status import OK, RHO_NOT_POSITIVE, STEP_TOO_SMALL, TOO_MANY_STEPS
 from .step import local_errors
+
+CONSTANT, ERROR, REVERSIBLE = 0, 1, 2
 
 SAFETY = 0.9
 MIN_FACTOR = 0.2
 MAX_FACTOR = 5.0
 FAILED_FACTOR = 0.25
 ERROR_EXPONENT = 1.0 / 3.0
+
+Control = namedtuple("Control", "kind tf h n rtol first_step max_step max_steps eps rho0")
+Control.__doc__ = """The controller's settings, one record (of numbers only)
+for every kind; its arrays (the given knots, atol) travel beside it as
+:class:`Vectors`.
+
+kind : CONSTANT, ERROR or REVERSIBLE.
+tf : the end of the span.
+h, n : CONSTANT: the uniform step (signed) and the number of steps.
+rtol, first_step, max_step : ERROR (first_step 0: chosen from y0, yp0).
+max_steps : the most step attempts (every kind).
+eps, rho0 : REVERSIBLE: the step at rho = 1 and rho at the start.
+"""
+
+Vectors = namedtuple("Vectors", "knots atol")
+Vectors.__doc__ = """The controller's arrays: the given knots (CONSTANT;
+empty for a uniform grid) and atol (ERROR; one per component)."""
+
+_EMPTY = np.empty(0)
+
+
+def constant(tf, h, n, knots, max_steps):
+    """The settings of the constant controller."""
+    return (Control(CONSTANT, float(tf), float(h), int(n), 0.0, 0.0, 0.0, int(max_steps), 0.0,
+                    0.0), Vectors(np.asarray(knots, dtype=float), _EMPTY))
+
+
+def error_control(tf, rtol, atol, first_step, max_step, max_steps):
+    """The settings of the error controller."""
+    return (Control(ERROR, float(tf), 0.0, 0, float(rtol), float(first_step), float(max_step),
+                    int(max_steps), 0.0, 0.0), Vectors(_EMPTY, atol))
+
+
+def reversible(tf, eps, rho0, max_steps):
+    """The settings of the time-reversible controller."""
+    return (Control(REVERSIBLE, float(tf), 0.0, 0, 0.0, 0.0, 0.0, int(max_steps), float(eps),
+                    float(rho0)), Vectors(_EMPTY, _EMPTY))
+
+
+@njit(cache=True)
+def first_size(ctrl, atol, t0, y, yp):
+    """The size (positive) of the first step: for ERROR, ``first_step`` or
+    scipy's rule of thumb, 1 % of |y| / |y'| in the scaled norm; for the
+    others, unused (0)."""
+    if ctrl.kind != ERROR:
+        return 0.0
+    span = abs(ctrl.tf - t0)
+    if ctrl.first_step > 0.0:
+        dt = ctrl.first_step
+    else:
+        m = y.shape[0]
+        d0 = 0.0
+        d1 = 0.0
+        for k in range(m):
+            scale = atol[k] + ctrl.rtol * abs(y[k])
+            d0 += (y[k] / scale) ** 2
+            d1 += (yp[k] / scale) ** 2
+        d0 = np.sqrt(d0 / m)
+        d1 = np.sqrt(d1 / m)
+        dt = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    return min(dt, ctrl.max_step, span)
+
+
+@njit(cache=True, inline="always")
+def propose(ctrl, t0, t, attempts, accepted, size, rho):
+    """The next knot after ``t`` (for given knots, the driver reads it from
+    them).  Returns (status, t_new, done): ``done``
+    when the end is reached (no step to take), a status other than OK when
+    the run must stop (max_steps, a step below rounding, rho not
+    positive).  ``size`` is the error controller's next step size (positive),
+    ``rho`` the reversible control variable; ``accepted`` counts the steps
+    kept, ``attempts`` every step tried."""
+    tf = ctrl.tf
+    direction = 1.0 if tf > t0 else -1.0
+    if ctrl.kind == CONSTANT:
+        if accepted >= ctrl.n:
+            return OK, t, True
+        if accepted + 1 < ctrl.n:
+            return OK, t0 + (accepted + 1) * ctrl.h, False
+        return OK, tf, False
+    if not direction * (tf - t) > 0.0:
+        return OK, t, True
+    if attempts >= ctrl.max_steps:
+        return TOO_MANY_STEPS, t, False
+    remaining = abs(tf - t)
+    if ctrl.kind == REVERSIBLE:
+        if not rho > 0.0:
+            return RHO_NOT_POSITIVE, t, False
+        dt = ctrl.eps / rho
+        return OK, (tf if dt >= remaining else t + direction * dt), False
+    min_step = 16.0 * np.finfo(np.float64).eps * max(abs(t), abs(tf - t0))
+    if size < min_step:
+        return STEP_TOO_SMALL, t, False
+    if size >= remaining or remaining - size < min_step:
+        return OK, tf, False
+    return OK, t + direction * size, False
 
 
 @njit(cache=True)
@@ -73,6 +192,23 @@ def step_factor(norm, after_reject):
     if after_reject:
         factor = min(factor, 1.0)
     return factor
+
+
+@njit(cache=True)
+def judge(ctrl, atol, status, dt, dt_prev, jerk_new, jerk, y, yp, y_new, yp_new,
+          after_reject):
+    """The error controller's verdict on a step of size ``dt`` (signed)
+    that ended with ``status``: (accept, next size).  A step whose
+    equation failed is retried FAILED_FACTOR times smaller; one whose error
+    norm exceeds 1 is retried smaller; an accepted one sets the next size
+    from the norm, within ``max_step``."""
+    if status != OK:
+        return False, abs(dt) * FAILED_FACTOR
+    norm = error_norm(dt, dt_prev, jerk_new, jerk, y, yp, y_new, yp_new, ctrl.rtol, atol)
+    factor = step_factor(norm, after_reject)
+    if not norm <= 1.0:
+        return False, abs(dt) * min(factor, 1.0)
+    return True, min(abs(dt) * factor, ctrl.max_step)
 
 
 def jump_estimates(t, ypp):

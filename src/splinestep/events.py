@@ -8,11 +8,17 @@ with ``*args`` too) that may carry two attributes:
 - ``direction`` (float, default 0): count only zeros where g goes from
   negative to positive (> 0), from positive to negative (< 0), or both (0).
 
-``g`` is evaluated at the knots; a zero exactly at the initial time is not
-an event (a ball launched from the ground has not landed).  On an interval where it changes sign, the
-zero is found by Brent's method on g along the interval's cubic, which is the
-solution the stepper computed there (not an interpolation of it), so an
-event time is a root of the dense output to the bracketing tolerance.
+The driver (:mod:`splinestep.driver`) hands each accepted step to a
+:class:`Tracker` as it is taken.  ``g`` is evaluated at the new knot; a zero
+exactly at the initial time is not an event (a ball launched from the
+ground has not landed).  On a step where it changes sign, the zero is found
+by Brent's method on g along the step's interpolant, the one that gives the
+dense output and ``t_eval`` (:func:`splinestep.driver.dense_state`): for the
+spline the interval's cubic, which is the solution the stepper computed
+there; for a composition of order 4 or 6 the quintic Hermite through both
+knots, of the run's order; for RK4 and Verlet the cubic Hermite.  An event
+time is a root of the dense output to the bracketing tolerance, and a
+terminal event ends the run there.
 
 References
 ----------
@@ -21,6 +27,8 @@ References
 """
 
 import numpy as np
+
+from .driver import dense_state
 
 # Bracketing tolerance of an event time: a few units of rounding of t.
 XTOL = 4 * np.finfo(float).eps
@@ -98,53 +106,66 @@ def check_events(events, args):
     return [Event(fun, args) for fun in events]
 
 
-def cubic_state(t_a, y_a, yp_a, ypp_a, jerk, t):
-    """y, y', y'' at t on the interval starting at t_a, whose third
-    derivative is ``jerk``: the spline's own cubic."""
-    s = t - t_a
-    y = y_a + s * (yp_a + s * (0.5 * ypp_a + s * jerk / 6.0))
-    yp = yp_a + s * (ypp_a + 0.5 * s * jerk)
-    ypp = ypp_a + s * jerk
-    return y, yp, ypp
+class Tracker:
+    """The events of one run, fed step by step by the driver.
 
-
-def locate(events, T, Y, YP, YPP, g_first=None):
-    """Scan the knots T (with values Y, YP, YPP, one row per knot) for the
-    events' zeros, in the order of time.
-
-    Appends each zero found to its event's ``times`` and ``states``;
-    stops after a terminal event has reached its count.  ``g_first`` holds
-    the events' values at T[0] when a previous scan computed them.
-    Returns ``(index, t, y, yp, ypp, g_last)``: the interval and state of a
-    terminal event (``index`` None if none) and the events' values at the
-    last knot scanned.
+    :meth:`start` evaluates every event at the initial state; :meth:`step`
+    looks for zeros on one accepted step and records them, in the order of
+    time; it returns (1, t) when a terminal event has reached its count at
+    t (its state written into ``out``), (0, nan) otherwise, and (2, nan)
+    when an event function raised (kept in :attr:`error`, which the front
+    door raises once the compiled loop has returned).
     """
-    if T.size == 0:  # the run failed at its start
-        return (None, None, None, None, None, g_first)
-    g_old = [ev(T[0], Y[0], YP[0]) for ev in events] if g_first is None else list(g_first)
-    for i in range(1, T.size):
-        g_new = [ev(T[i], Y[i], YP[i]) for ev in events]
-        jerk = (YPP[i] - YPP[i - 1]) / (T[i] - T[i - 1])
+
+    def __init__(self, events):
+        self.events = events
+        self.g_old = None
+        self.error = None
+
+    def start(self, t0, y0, yp0):
+        self.g_old = [ev(t0, y0, yp0) for ev in self.events]
+
+    def step(self, t, t_new, kind, state, out):
+        try:
+            return self._step(t, t_new, kind, state, out)
+        except Exception as error:  # raised again by the front door
+            self.error = error
+            return 2, np.nan
+
+    def _step(self, t, t_new, kind, state, out):
+        start, end = state[:3], state[3:]
+        g_new = [ev(t_new, end[0], end[1]) for ev in self.events]
+        dt = t_new - t
+
+        def at(time):
+            return dense_state(kind, time - t, dt, *start, *end)
+
         hits = []
-        for ev, a, b in zip(events, g_old, g_new):
+        for ev, a, b in zip(self.events, self.g_old, g_new):
             if ev.done or not ev.active(a, b):
                 continue
             if b == 0:
-                t_root = T[i]
+                t_root = t_new
             else:
-                def g_on_cubic(t, ev=ev):
-                    y, yp, _ = cubic_state(T[i - 1], Y[i - 1], YP[i - 1], YPP[i - 1], jerk, t)
-                    return ev(t, y, yp)
                 from scipy.optimize import brentq   # here: scipy takes 0.3 s to import
-                lo, hi = sorted((T[i - 1], T[i]))
-                t_root = brentq(g_on_cubic, lo, hi, xtol=XTOL * max(1.0, abs(hi)),
-                                rtol=XTOL)
-            hits.append((abs(t_root - T[i - 1]), t_root, ev))
+                lo, hi = sorted((t, t_new))
+                t_root = brentq(lambda time, ev=ev: ev(time, *at(time)[:2]), lo, hi,
+                                xtol=XTOL * max(1.0, abs(hi)), rtol=XTOL)
+            hits.append((abs(t_root - t), t_root, ev))
+        self.g_old = g_new
         for _, t_root, ev in sorted(hits, key=lambda hit: hit[0]):
-            state = cubic_state(T[i - 1], Y[i - 1], YP[i - 1], YPP[i - 1], jerk, t_root)
+            found = end if t_root == t_new else np.array(at(t_root))
             ev.times.append(t_root)
-            ev.states.append(state)
+            ev.states.append((found[0].copy(), found[1].copy(), found[2].copy()))
             if ev.done:
-                return (i - 1, t_root, *state, g_new)
-        g_old = g_new
-    return (None, None, None, None, None, g_old)
+                out[:] = found
+                return 1, t_root
+        return 0, np.nan
+
+    def attach(self, result):
+        """The zeros as scipy's ``t_events``, ``y_events`` (and
+        ``yp_events``): (k,), (k, m), (k, m) for k zeros, shape (0,) for
+        none."""
+        result.t_events = [np.array(ev.times) for ev in self.events]
+        result.y_events = [np.array([s[0] for s in ev.states]) for ev in self.events]
+        result.yp_events = [np.array([s[1] for s in ev.states]) for ev in self.events]

@@ -1,5 +1,5 @@
-"""The result type returned by :func:`splinestep.solve` and :func:`splinestep.rk4`,
-and the dense output of the spline stepper."""
+"""What the solvers return: one result type with the same keys from every
+entry point (:func:`new_result`), and the dense outputs."""
 
 import numpy as np
 from numba.extending import register_jitable
@@ -30,17 +30,29 @@ class OdeResult(dict):
         Total number of implicit iterations (fixed-point sweeps or Newton
         updates) over all steps.
     nstep : int
-        Number of steps taken (a run stopped by a terminal event may have
-        taken a few past it).
+        Number of steps accepted (a run stopped by a terminal event ends
+        with the step that holds it, cut at the event).
+    n_rejected, n_failed : int
+        Error-controlled knots: steps rejected by the error estimate, and
+        steps whose equation could not be solved (both retried smaller); 0
+        on the other paths.
     t_events, y_events, yp_events : list of ndarray or None
         For each event function, the times of its zeros and y, y' there
         (shapes (k,), (k, m), (k, m)); None when no events were given.
     local_error, local_error_yp : float
         Spline stepper: the largest estimated local error of one step in y
         and in y' (max norm), from the jumps of the spline's third
-        derivative (:mod:`splinestep.check`); NaN for fewer than 2 steps.
+        derivative (:mod:`splinestep.check`); NaN for fewer than 2 steps and
+        for the baselines (RK4, Verlet) and global runs.
     t_local_error : float
         The knot where ``local_error`` is largest.
+    rho : ndarray or None
+        Time-reversible steps: the control variable of each step; None
+        otherwise.
+    method : str
+        The method: "spline", "rk4" or "verlet".
+    order : int
+        The order of the method (2, 4 or 6 for the spline).
     path : {"compiled", "plain"}
         Whether the stepping loop ran compiled by numba or as plain Python.
     status : int
@@ -49,7 +61,8 @@ class OdeResult(dict):
     message : str
         Human-readable description of the outcome.
     success : bool
-        ``status == 0``.
+        ``status >= 0``: the end of the span, or a terminal event, was
+        reached (as scipy's ``solve_ivp``).
     """
 
     def __getattr__(self, name):
@@ -70,6 +83,25 @@ class OdeResult(dict):
         width = max((len(k) for k in keys), default=0)
         return "\n".join(f"{k:>{width}}: {self[k]!r}".replace("\n", "\n" + " " * (width + 2))
                          for k in keys) or "OdeResult()"
+
+
+# Every result's keys and the value of each where it does not apply.
+DEFAULTS = dict(t=None, y=None, yp=None, ypp=None, sol=None, t_events=None, y_events=None,
+                yp_events=None, nfev=0, njev=0, niter=0, nstep=0, n_rejected=0, n_failed=0,
+                local_error=np.nan, local_error_yp=np.nan, t_local_error=np.nan, rho=None,
+                method="spline", order=2, path="plain", status=0, message="", success=True)
+
+
+def new_result(**values):
+    """The one result builder: an :class:`OdeResult` with every key of
+    :data:`DEFAULTS`, ``values`` given (an unknown key is a programming
+    error) and ``success`` from ``status``."""
+    unknown = set(values) - set(DEFAULTS)
+    if unknown:
+        raise KeyError(f"not result keys: {sorted(unknown)}")
+    result = OdeResult(DEFAULTS, **values)
+    result.success = result.status >= 0
+    return result
 
 
 class SplineSolution:

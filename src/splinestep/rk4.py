@@ -1,7 +1,10 @@
 """The report's baseline: classical fourth-order Runge-Kutta on the
 equivalent first-order system u = (y, y'), u' = (y', F(t, y, y'))."""
 
-from ._explicit import RK4, run
+import numpy as np
+
+from . import _base, controllers, driver
+from .driver import RK4
 
 
 def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), max_steps=10**8):
@@ -18,7 +21,7 @@ def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), max_steps=10**8):
         ``numba.njit`` function directly, a plain one through the
         interpreter.
     t_span : (float, float)
-        Interval of integration, t0 < tf.
+        Interval of integration (t0, tf); tf < t0 integrates backwards.
     y0, yp0 : float or array_like, shape (m,)
         Initial value and first derivative.
     h : float
@@ -42,4 +45,25 @@ def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), max_steps=10**8):
     .. [1] E. Hairer, S. P. Norsett, G. Wanner, "Solving Ordinary
        Differential Equations I", 2nd ed., Springer (1993), Sec. II.1.
     """
-    return run(RK4, fun, t_span, y0, yp0, h, t_eval, args, max_steps)
+    return run_baseline(RK4, fun, t_span, y0, yp0, h, t_eval, args, max_steps)
+
+
+def run_baseline(kind, fun, t_span, y0, yp0, h, t_eval, args, max_steps):
+    """The front door of :func:`splinestep.rk4` and :func:`splinestep.verlet`
+    (``kind`` RK4 or VERLET of :mod:`splinestep.driver`): validate, run the
+    driver with the constant controller, return the :class:`OdeResult`."""
+    t0, tf = _base.check_span(t_span, backward=True)
+    y0, yp0 = _base.check_state(y0, yp0)
+    h, n, _ = _base.check_grid(t0, tf, h, None, _base.check_max_steps(max_steps))
+    t_eval = _base.check_t_eval(t_eval, t0, tf)
+    args = _base.check_args(args)
+    if not callable(fun):
+        raise ValueError("fun must be callable")
+    path = _base.choose_path(fun, None, args)
+    ypp0 = _base.check_fun(fun, t0, y0, yp0, args)
+    ctrl = controllers.constant(tf, h, n, np.empty(0), max_steps)
+    out, reason = driver.run(path, fun, None, args, driver.method(kind), ctrl,
+                             (t_eval, t_eval is None, None), (t0, y0, yp0, ypp0))
+    name = "rk4" if kind == driver.RK4 else "verlet"
+    return driver.result_of(out, t_eval, 0, ctrl[0], reason, path=path,
+                            order=4 if kind == driver.RK4 else 2, method=name)

@@ -1,23 +1,89 @@
-"""The status codes of every step loop, in one table.
+"""The status codes of the step loop, in one table, with what each means.
 
-A compiled loop cannot raise with a message, so it returns what went wrong
-as a code; the drivers turn the code into the result's ``status`` (0
-finished, 1 a terminal event, -1 failed) and a ``message``.  Each code
-means one thing on every path: :data:`CODES` lists them, and
-``tests/test_scipy_ivp_ported.py`` checks that they are distinct.
+The compiled driver (:mod:`splinestep.driver`) cannot raise with a message,
+so it returns what happened as a code; :func:`message` turns the code into
+the result's ``message``, and the result's ``status`` is 0 (finished), 1 (a
+terminal event stopped the run) or -1 (failed).  Each code means one thing
+on every path: :data:`CODES` lists them, and
+``tests/test_scipy_ivp_ported.py`` checks that they are distinct and that
+each failure has its sentence.
 """
 
-# The step itself (every path).
+# The step itself (every step of every method).
 OK = 0
 NOT_CONVERGED = 1        # the step equation's iteration ran out of iterations
 NON_FINITE = 2           # fun returned a value that is not finite
 BAD_SHAPE = 3            # fun returned an array of the wrong shape
 SINGULAR = 4             # the Newton matrix is singular
 DIVERGED = 5             # an iterate of y or y' is not finite
-# The drivers.
-STEP_TOO_SMALL = 10      # adaptive knots: the step fell below the rounding of t
-TOO_MANY_STEPS = 11      # adaptive knots, reversible steps: max_steps reached
-RHO_NOT_POSITIVE = 20    # reversible steps: the control variable left (0, inf)
+# The driver and its step-size controllers.
+STEP_TOO_SMALL = 10      # error control: the step fell below the rounding of t
+TOO_MANY_STEPS = 11      # max_steps step attempts made before the end
+TERMINAL_EVENT = 12      # a terminal event stopped the run (not a failure)
+EVENT_FAILED = 13        # an event function raised (re-raised by the front door)
+RHO_NOT_POSITIVE = 20    # time-reversible steps: the control variable left (0, inf)
 
 CODES = {name: value for name, value in globals().items()
          if name.isupper() and isinstance(value, int)}
+
+# What a failed step means, for a message.
+FAILURES = {
+    NOT_CONVERGED: "the iteration did not converge in {max_iter} iterations",
+    NON_FINITE: "the right-hand side returned a value that is not finite",
+    BAD_SHAPE: "the right-hand side returned an array of the wrong shape "
+               "(expected shape ({m},))",
+    SINGULAR: "the Newton matrix is singular or its solution is not finite",
+    DIVERGED: "the iteration diverged (an iterate of y or y' is not finite)",
+}
+
+# What to try when a step fails, appended to the message.
+HINTS = {
+    NOT_CONVERGED: " Try a smaller h, or iteration=\"newton\" (the fixed-point sweep "
+                   "converges only while h^2/6 |dF/dy| + h/2 |dF/dyp| < 1).",
+    SINGULAR: " Try a smaller h: the step equation may have no solution at this h.",
+    NON_FINITE: " The solution may blow up here, or the step may be too large.",
+    DIVERGED: " Try a smaller h, or iteration=\"newton\" (the fixed-point sweep "
+              "converges only while h^2/6 |dF/dy| + h/2 |dF/dyp| < 1).",
+}
+
+SUCCESS = "The solver successfully reached the end of the integration interval."
+
+
+def short(t):
+    """A time for a message: the shortest repr of ``t`` to 10 digits."""
+    return f"{t:.10g}"
+
+
+def failure(code, max_iter, m, reason=None):
+    """What a failed step's ``code`` means (``reason``, when the front door
+    knows more precisely what ``fun`` returned, replaces the generic text)."""
+    return reason if reason is not None else FAILURES[code].format(max_iter=max_iter, m=m)
+
+
+def message(run, max_iter, m, max_steps, reason=None):
+    """The result's message for the driver's output ``run``
+    (:class:`splinestep.driver.Run`)."""
+    code = run.status
+    if code == OK:
+        return SUCCESS
+    if code == TERMINAL_EVENT:
+        return f"A termination event occurred at t = {short(run.t_last)}."
+    if run.fail_step == 0:
+        return (f"The initial evaluation at t = {short(run.t_fail)} failed: "
+                f"{failure(code, max_iter, m, reason)}.")
+    accepted = f"Returning the {run.nstep} steps completed before it."
+    if code == TOO_MANY_STEPS:
+        return (f"The run stopped at t = {short(run.t_last)} after max_steps = {max_steps} "
+                f"step attempts. {accepted}")
+    if code == RHO_NOT_POSITIVE:
+        return (f"The control variable rho is not positive at t = {short(run.t_last)}: eps "
+                f"is too large for this control. {accepted}")
+    if code == STEP_TOO_SMALL:
+        last = run.last_status
+        why = ("its error estimate was too large" if last == OK else
+               f"its equation could not be solved ({failure(last, max_iter, m, reason)})")
+        return (f"The step size fell below the rounding floor at t = {short(run.t_last)}: the "
+                f"last step tried was rejected because {why}. {accepted}")
+    return (f"Step {run.fail_step} (from t = {short(run.t_last)} to t = {short(run.t_fail)}) "
+            f"failed: {failure(code, max_iter, m, reason)}. {accepted}"
+            f"{HINTS.get(code, '') if reason is None else ''}")

@@ -9,13 +9,15 @@ unknown (report eqs. 6-9),
     y'_new = y' + dt (y'' + z)/2,
     z      = F(t + dt, y_new, y'_new),
 
-Newmark's method with beta = 1/6, gamma = 1/2.  :func:`spline_step` solves
-the step equation by the report's fixed-point sweep or by Newton's method;
+Newmark's method with beta = 1/6, gamma = 1/2.  :func:`sweep_step` solves
+the step equation by the report's fixed-point sweep, :func:`newton_step` by
+Newton's method; the settings travel as a :class:`Method` record, the
+vectors as a :class:`State`, Newton's kept matrices as :class:`Kept`;
 :func:`composed_step` chains it with the weights of a symmetric composition;
 :func:`relations` is the step written as residuals, for the drivers that
-solve all knots at once (:mod:`splinestep.bvp`).  The uniform
-(:mod:`splinestep.spline`), adaptive (:mod:`splinestep.adaptive`) and
-reversible drivers call these and nothing else of the method.
+solve all knots at once (:mod:`splinestep.bvp`).  The one driver
+(:mod:`splinestep.driver`) calls these and nothing else of the method, as
+it calls the baselines' steps (:mod:`splinestep._explicit`).
 
 Newton's method is the simplified Newton of implicit Runge-Kutta codes
 (Hairer and Wanner's RADAU5): the matrix I - dt^2/6 dF/dy - dt/2 dF/dy' and
@@ -30,13 +32,14 @@ References
    2nd ed., Springer (1996), Sec. IV.8 (simplified Newton iterations).
 """
 
+from collections import namedtuple
+
 import numpy as np
 from numba import njit
 from numba.extending import register_jitable
 
-from ._base import (BAD_SHAPE, DIVERGED, FD_STEP, NON_FINITE, NOT_CONVERGED, OK, SINGULAR,
-                    as_vector, wrong_length)
-from .result import quintic_coefficients
+from ._base import FD_STEP, as_vector, wrong_length
+from .status import BAD_SHAPE, DIVERGED, NON_FINITE, NOT_CONVERGED, OK, SINGULAR
 
 # The coefficients of the unknown z in the step, as multiples of dt^2 and dt,
 # and those of y'' at the start.
@@ -114,25 +117,46 @@ def solve_linear(a, b):
 # Rows of the work array a step uses (allocated once per run, not per step).
 _BASE_Y, _BASE_YP, _G, _RESIDUAL = range(4)
 
+State = namedtuple("State", "y yp ypp y_new yp_new z")
+State.__doc__ = """The vectors a step reads and writes: (y, y', y'') at the
+start, and y, y' and z = y'' at the end (all of shape (m,))."""
+
+Kept = namedtuple("Kept", "work lu piv info")
+Kept.__doc__ = """What a driver allocates once for its steps
+(:func:`step_state`): a work array (4, m) and the kept Newton matrices, one
+per distinct sub-step of a composition: LU factors (slots, m, m), pivots
+(slots, m) and, per slot, [built?, the step it was built for]."""
+
+Iteration = namedtuple("Iteration", "mode n_iter until_converged tol reuse")
+Iteration.__doc__ = """How the step equation is solved: ``mode`` FIXED_POINT
+or NEWTON; ``n_iter`` iterations at most, exactly when not
+``until_converged``; converged when the change of the increments dt^2/6
+|dz| and dt/2 |dz| is at most ``tol`` times the size of the state (max
+norm); ``reuse`` of Newton's matrix.  Numbers only: a record holding
+arrays costs reference counting wherever it is passed in the hot loop."""
+
+Method = namedtuple("Method", "kind iteration weights slots")
+Method.__doc__ = """The step: the method ``kind`` (see :mod:`splinestep.driver`),
+its :class:`Iteration`, and a composition's sub-step ``weights`` with the
+``slots`` of their kept Newton matrices."""
+
 
 @njit(cache=True)
 def step_state(m, slots):
-    """What a driver allocates once for its steps: a work array (4, m) and
-    the kept Newton matrices, one per distinct sub-step of a composition:
-    LU factors (slots, m, m), pivots (slots, m) and, per slot, [built?, the
-    step it was built for]."""
-    return (np.empty((4, m)), np.zeros((slots, m, m)), np.zeros((slots, m), dtype=np.int64),
-            np.zeros((slots, 2)))
+    """The :class:`Kept` buffers of a run of m components."""
+    return Kept(np.empty((4, m)), np.zeros((slots, m, m)), np.zeros((slots, m), dtype=np.int64),
+                np.zeros((slots, 2)))
 
 
 @njit(cache=True, error_model="numpy")
-def _build_matrix(fun, args, jac, t_new, dt, base_y, base_yp, z, g, y_new, yp_new, lu, piv,
-                  info):
-    """I - dF/dz at the current z, factorised into ``lu``; returns
-    (nfev, njev) spent (finite differences: m evaluations)."""
-    m = z.shape[0]
+def _build_matrix(fun, args, jac, t_new, dt, s, work, lu, piv, info):
+    """I - dF/dz at the current z, factorised into ``lu`` (one slot's); the
+    value of F there is in ``work``'s row _G.  Returns (nfev, njev) spent
+    (finite differences: m evaluations)."""
+    m = s.z.shape[0]
     wy = Y_WEIGHT * dt * dt
     wyp = YP_WEIGHT * dt
+    z, y_new, yp_new = s.z, s.y_new, s.yp_new
     nfev = 0
     njev = 0
     if jac is None:
@@ -141,17 +165,17 @@ def _build_matrix(fun, args, jac, t_new, dt, base_y, base_yp, z, g, y_new, yp_ne
             saved = z[k]
             z[k] = saved + step
             for j in range(m):
-                y_new[j] = base_y[j] + wy * z[j]
-                yp_new[j] = base_yp[j] + wyp * z[j]
+                y_new[j] = work[_BASE_Y, j] + wy * z[j]
+                yp_new[j] = work[_BASE_YP, j] + wyp * z[j]
             gk = as_vector(fun(t_new, y_new, yp_new, *args))
             z[k] = saved
             for j in range(m):
-                lu[j, k] = -(gk[j] - g[j]) / step
+                lu[j, k] = -(gk[j] - work[_G, j]) / step
         nfev += m
     else:
         for j in range(m):
-            y_new[j] = base_y[j] + wy * z[j]
-            yp_new[j] = base_yp[j] + wyp * z[j]
+            y_new[j] = work[_BASE_Y, j] + wy * z[j]
+            yp_new[j] = work[_BASE_YP, j] + wyp * z[j]
         fy, fyp = jac(t_new, y_new, yp_new, *args)
         njev += 1
         fy = np.asarray(fy)
@@ -217,25 +241,28 @@ def _finish(dt, z, y_new, yp_new, work):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter, until_converged,
-               tol, work):
-    """One step by the report's fixed-point sweep z <- F(t_new, y_new(z),
-    y'_new(z)) (eq. 9), ``n_iter`` sweeps at most (exactly, when not
-    ``until_converged``).  Arguments and return value as
-    :func:`spline_step`; no Jacobian is evaluated (njev = 0).
+def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
+    """One step from (y, y', y'') to t_new = t + dt by the report's
+    fixed-point sweep z <- F(t_new, y_new(z), y'_new(z)) (eq. 9),
+    ``it.n_iter`` sweeps at most (exactly, when not ``it.until_converged``;
+    ``it`` is an :class:`Iteration`).  On return ``z`` holds y'' at t_new and
+    ``y_new``, ``yp_new`` the value and slope there (consistent with z).
+    Returns (status, nfev, njev, niter); no Jacobian is evaluated (njev = 0).
 
-    Inlined into the loops that call it: this is the hot path of the
-    uniform driver, which ``make bench`` holds against a C loop.  The
-    change of z is computed only when it is tested."""
+    Inlined into the driver: this is its hot path, which ``make bench``
+    holds against a C loop, so it takes its vectors one by one (a record
+    of arrays costs reference counting at every step).  The change of z is
+    computed only when it is tested."""
     m = y.shape[0]
     wy = Y_WEIGHT * dt * dt
     wyp = YP_WEIGHT * dt
     w_max = max(wy, abs(wyp))
+    until_converged = it.until_converged
     _start(dt, y, yp, ypp, z, work)
     status = NOT_CONVERGED if until_converged else OK
     nfev = 0
     niter = 0
-    for _ in range(n_iter):
+    for _ in range(it.n_iter):
         size = _trial(wy, wyp, z, y_new, yp_new, work)
         if not size < np.inf:
             # A diverging sweep overflows; an infinite size would pass the
@@ -254,7 +281,7 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter, until
             for k in range(m):
                 change = max(change, abs(g[k] - z[k]))
                 z[k] = g[k]
-            if w_max * change <= tol * size:
+            if w_max * change <= it.tol * size:
                 status = OK
                 break
         else:
@@ -266,30 +293,34 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter, until
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
-                until_converged, tol, reuse, work, lu, piv, info, slot):
+def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
     """One step by simplified Newton on R(z) = z - F(t_new, y_new(z),
-    y'_new(z)) = 0.  Arguments and return value as :func:`spline_step`.
+    y'_new(z)) = 0, on the vectors of the :class:`State` ``s``, with ``jac``
+    (None: finite differences) and the :class:`Kept` buffers; returns as
+    :func:`sweep_step`.
 
     The step keeps its Newton matrix in ``slot`` and rebuilds it at every
-    iteration when not ``reuse``.  A step that fails with a kept matrix is
-    tried again from the start with the matrix rebuilt at every iteration,
-    so reusing it never loses a step that full Newton would solve.
+    iteration when not ``it.reuse``.  A step that fails with a kept
+    matrix is tried again from the start with the matrix rebuilt at every
+    iteration, so reusing it never loses a step that full Newton would solve.
 
-    Inlined into :func:`composed_step`, which the uniform driver calls for
-    Newton steps: its code inlined beside the sweep in the driver's own
-    loop slows the sweep down by about a third (``make bench``)."""
-    m = y.shape[0]
+    Inlined into :func:`composed_step` and :func:`newton_call`: its code
+    inlined beside the sweep in the driver's own loop slows the sweep down
+    by about a third (``make bench``)."""
+    m = s.y.shape[0]
+    y, yp, ypp, z, y_new, yp_new = s.y, s.yp, s.ypp, s.z, s.y_new, s.yp_new
     wy = Y_WEIGHT * dt * dt
     wyp = YP_WEIGHT * dt
     w_max = max(wy, abs(wyp))
+    until_converged = it.until_converged
+    work, info = kept.work, kept.info
     nfev = 0
     njev = 0
     niter = 0
     status = OK
-    kept = reuse
+    reuse = it.reuse
     # Views made once per step, not per iteration (each costs reference counting).
-    dz, lu_slot, piv_slot = work[_RESIDUAL], lu[slot], piv[slot]
+    dz, lu_slot, piv_slot = work[_RESIDUAL], kept.lu[slot], kept.piv[slot]
     for attempt in range(2):
         _start(dt, y, yp, ypp, z, work)
         status = NOT_CONVERGED if until_converged else OK
@@ -297,7 +328,7 @@ def newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
             info[slot, 0] = 0.0
         fresh = False        # the matrix was built during this step
         last_change = np.inf
-        for _ in range(n_iter):
+        for _ in range(it.n_iter):
             size = _trial(wy, wyp, z, y_new, yp_new, work)
             if not size < np.inf:
                 status = DIVERGED
@@ -311,8 +342,7 @@ def newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
             if info[slot, 0] == 0.0:
                 for k in range(m):
                     work[_G, k] = g[k]
-                fe, je = _build_matrix(fun, args, jac, t_new, dt, work[_BASE_Y], work[_BASE_YP],
-                                       z, work[_G], y_new, yp_new, lu_slot, piv_slot,
+                fe, je = _build_matrix(fun, args, jac, t_new, dt, s, work, lu_slot, piv_slot,
                                        info[slot])
                 nfev += fe
                 njev += je
@@ -335,63 +365,34 @@ def newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
             for k in range(m):
                 change = max(change, abs(dz[k]))
                 z[k] += dz[k]
-            if not kept or (change > SLOW_RATE * last_change and not fresh):
+            if not reuse or (change > SLOW_RATE * last_change and not fresh):
                 info[slot, 0] = 0.0
             last_change = change
             niter += 1
-            if until_converged and w_max * change <= tol * size:
+            if until_converged and w_max * change <= it.tol * size:
                 status = OK
                 break
         if status == OK:
             status = _finish(dt, z, y_new, yp_new, work)
         if status != OK:
             info[slot, 0] = 0.0
-        if status == OK or not kept or fresh:
+        if status == OK or not reuse or fresh:
             break
-        kept = False   # the kept matrix failed this step: redo it with full Newton
+        reuse = False   # the kept matrix failed this step: redo it with full Newton
     return status, nfev, njev, niter
 
 
 @njit(cache=True, error_model="numpy")
-def newton_call(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
-                until_converged, tol, reuse, work, lu, piv, info, slot):
-    """:func:`newton_step` as a call, not inlined: the uniform driver's
-    Newton steps, kept out of the code of its inlined sweep."""
-    return newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
-                       until_converged, tol, reuse, work, lu, piv, info, slot)
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def spline_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, mode, n_iter,
-                until_converged, tol, reuse, work, lu, piv, info, slot):
-    """One step from (y, y', y'') to t_new = t + dt.
-
-    On return ``z`` holds y'' at t_new and ``y_new``, ``yp_new`` the value
-    and slope there (consistent with ``z``).  ``mode`` is FIXED_POINT
-    (:func:`sweep_step`) or NEWTON (:func:`newton_step`); ``n_iter``
-    iterations at most (exactly, when not ``until_converged``); converged
-    when the change of the increments dt^2/6 |dz| and dt/2 |dz| is at most
-    ``tol`` times the size of the state (max norm).  ``work``, ``lu``,
-    ``piv``, ``info`` come from :func:`step_state`; ``reuse`` and ``slot``
-    concern Newton's kept matrix.
-
-    Inlined into the drivers' loops (numba ``inline="always"``).  A driver
-    whose hot path is the sweep calls it where ``mode`` is known to be
-    FIXED_POINT, so that the compiler drops the Newton branch there.
-
-    Returns (status, nfev, njev, niter).
-    """
-    if mode == FIXED_POINT:
-        return sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
-                          until_converged, tol, work)
-    return newton_step(fun, args, jac, t_new, dt, y, yp, ypp, z, y_new, yp_new, n_iter,
-                       until_converged, tol, reuse, work, lu, piv, info, slot)
+def newton_call(fun, args, jac, t_new, dt, s, it, kept, slot):
+    """:func:`newton_step` as a call, not inlined: the driver's Newton
+    steps, kept out of the code of its inlined sweep."""
+    return newton_step(fun, args, jac, t_new, dt, s, it, kept, slot)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _copy_state(y, yp, ypp, sub):
     """(y, y', y'') into the three vectors of ``sub``."""
-    sub_y, sub_yp, sub_ypp = sub
+    sub_y, sub_yp, sub_ypp = sub.y, sub.yp, sub.ypp
     for k in range(y.shape[0]):
         sub_y[k] = y[k]
         sub_yp[k] = yp[k]
@@ -399,55 +400,51 @@ def _copy_state(y, yp, ypp, sub):
 
 
 @njit(cache=True, error_model="numpy")
-def composed_step(fun, args, jac, t, t_new, weights, slots, y, yp, ypp, z, y_new, yp_new, mode,
-                  n_iter, until_converged, tol, reuse, work, lu, piv, info, sub):
+def composed_step(fun, args, jac, t, t_new, s, method, kept, sub):
     """The step from t to t_new = t + dt as spline steps of sizes
-    weights[j] dt in turn (weights summing to 1; a single weight 1 is one
-    spline step, the last sub-step ends at t_new exactly).
-    Sub-step j keeps its Newton matrix in slot ``slots[j]``; ``sub`` holds
-    three vectors for the start of each sub-step (the step's start is
-    copied there too: choosing between arrays per sub-step costs reference
-    counting).  Returns what
-    :func:`spline_step` returns, summed; on success ``y_new``, ``yp_new``,
-    ``z`` hold the state at t + dt.
+    method.weights[j] dt in turn (weights summing to 1; a single weight 1
+    is one spline step, the last sub-step ends at t_new exactly).
+    Sub-step j keeps its Newton matrix in slot ``method.slots[j]``; ``sub``
+    is a :class:`State` whose start vectors hold each sub-step's start and
+    whose end vectors are ``s``'s (the step's start is copied there too:
+    choosing between arrays per sub-step costs reference counting).  Returns
+    what :func:`sweep_step` returns, summed; on success ``s.y_new``,
+    ``s.yp_new``, ``s.z`` hold the state at t + dt.
 
     The sub-steps' loop is written once per iteration mode: a loop whose
     body chooses between the two takes about 1.3 times as long per
     evaluation (``make bench``)."""
-    s = weights.shape[0]
+    weights, it = method.weights, method.iteration
+    n_sub = weights.shape[0]
     dt = t_new - t
     nfev = 0
     njev = 0
     niter = 0
     status = OK
     t_sub = t
-    sub_y, sub_yp, sub_ypp = sub
-    _copy_state(y, yp, ypp, sub)
-    if mode == FIXED_POINT:
-        for j in range(s):
-            t_next = t_new if j == s - 1 else t_sub + weights[j] * dt
+    _copy_state(s.y, s.yp, s.ypp, sub)
+    if it.mode == FIXED_POINT:
+        for j in range(n_sub):
+            t_next = t_new if j == n_sub - 1 else t_sub + weights[j] * dt
             if j > 0:
-                _copy_state(y_new, yp_new, z, sub)
-            status, fe, je, it = sweep_step(fun, args, t_next, t_next - t_sub, sub_y, sub_yp,
-                                            sub_ypp, z, y_new, yp_new, n_iter, until_converged,
-                                            tol, work)
+                _copy_state(s.y_new, s.yp_new, s.z, sub)
+            status, fe, je, n_it = sweep_step(fun, args, t_next, t_next - t_sub, sub.y, sub.yp,
+                                              sub.ypp, s.z, s.y_new, s.yp_new, it, kept.work)
             nfev += fe
-            niter += it
+            niter += n_it
             if status != OK:
                 break
             t_sub = t_next
     else:
-        for j in range(s):
-            t_next = t_new if j == s - 1 else t_sub + weights[j] * dt
+        for j in range(n_sub):
+            t_next = t_new if j == n_sub - 1 else t_sub + weights[j] * dt
             if j > 0:
-                _copy_state(y_new, yp_new, z, sub)
-            status, fe, je, it = newton_step(fun, args, jac, t_next, t_next - t_sub, sub_y,
-                                             sub_yp, sub_ypp, z, y_new, yp_new, n_iter,
-                                             until_converged, tol, reuse, work, lu, piv, info,
-                                             slots[j])
+                _copy_state(s.y_new, s.yp_new, s.z, sub)
+            status, fe, je, n_it = newton_step(fun, args, jac, t_next, t_next - t_sub, sub, it,
+                                               kept, method.slots[j])
             nfev += fe
             njev += je
-            niter += it
+            niter += n_it
             if status != OK:
                 break
             t_sub = t_next
@@ -462,18 +459,6 @@ def local_errors(jerk_new, jerk_old, dt, dt_prev):
     ERR_Y).  Numbers in compiled code, arrays (broadcast) in Python."""
     y4 = abs(jerk_new - jerk_old) / abs(0.5 * (dt + dt_prev))
     return ERR_Y * (dt * dt) * (dt * dt) * y4, ERR_YP * abs(dt * dt * dt) * y4
-
-
-@njit(cache=True)
-def quintic(s, dt, p0, v0, a0, p1, v1, a1):
-    """Value, first and second derivative at t + s of the quintic with
-    value, slope and second derivative (p0, v0, a0) at t and (p1, v1, a1)
-    at t + dt (Hermite interpolation, error O(dt^6))."""
-    c3, c4, c5 = quintic_coefficients(dt, p0, v0, a0, p1, v1, a1)
-    value = p0 + s * (v0 + s * (0.5 * a0 + s * (c3 + s * (c4 + s * c5))))
-    slope = v0 + s * (a0 + s * (3.0 * c3 + s * (4.0 * c4 + s * 5.0 * c5)))
-    curvature = a0 + s * (6.0 * c3 + s * (12.0 * c4 + s * 20.0 * c5))
-    return value, slope, curvature
 
 
 def relations(dt, y, yp, ypp, y1, yp1, z):

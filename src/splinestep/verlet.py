@@ -2,7 +2,8 @@
 second-order method for y'' = f(y), to which the spline stepper is
 conjugate (see ``notebooks/06_theory``)."""
 
-from ._explicit import VERLET, run
+from .driver import VERLET
+from .rk4 import run_baseline
 
 
 def verlet(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), max_steps=10**8):
@@ -27,7 +28,7 @@ def verlet(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), max_steps=10**8):
         ``numba.njit`` function directly, a plain one through the
         interpreter.
     t_span : (float, float)
-        Interval of integration, t0 < tf.
+        Interval of integration (t0, tf); tf < t0 integrates backwards.
     y0, yp0 : float or array_like, shape (m,)
         Initial value and first derivative.
     h : float
@@ -53,4 +54,4 @@ def verlet(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), max_steps=10**8):
        illustrated by the Stormer-Verlet method", Acta Numerica 12 (2003)
        399-450.
     """
-    return run(VERLET, fun, t_span, y0, yp0, h, t_eval, args, max_steps)
+    return run_baseline(VERLET, fun, t_span, y0, yp0, h, t_eval, args, max_steps)

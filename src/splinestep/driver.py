@@ -1,0 +1,405 @@
+"""The one driver: a step, a step-size controller, and everything else once.
+
+Every front door (:func:`splinestep.solve`, :func:`splinestep.solve_reversible`,
+:func:`splinestep.rk4`, :func:`splinestep.verlet`) validates its arguments,
+chooses a step (:class:`Method`) and a controller
+(:class:`splinestep.controllers.Control`) and calls :func:`run`, which runs
+the compiled loop :func:`_drive`.  The loop asks the controller for the next
+knot, takes the step, lets the controller judge it (error control), and for
+every path alike:
+
+- locates the events on the accepted step's interpolant as the step is
+  taken (a terminal event ends the run at its zero, whose state becomes the
+  last knot);
+- fills ``t_eval`` from the same interpolant (:func:`dense_state`);
+- stores the knots for dense output (when they are wanted);
+- keeps the largest estimated local error of the spline steps (the jump
+  of the third derivative, :mod:`splinestep.controllers`);
+- counts every evaluation of fun and jac and honours ``max_steps``;
+- checks each value fun returns (the steps return a status).
+
+The steps share one protocol: from (y, y', y'') at t to t_new they leave
+y_new, y'_new and z = y''(t_new) in the work buffers and return (status,
+nfev, njev, niter).  :data:`SPLINE` is one spline step (the sweep inlined:
+it is the hot path that ``make bench`` holds against C), :data:`COMPOSED`
+a symmetric composition of spline steps (:func:`step.composed_step`),
+:data:`RK4` and :data:`VERLET` the baselines (:mod:`splinestep._explicit`).
+A new method is a new kind here and one branch of the step dispatch in
+:func:`_drive`.
+
+Settings travel as named tuples (``step.Method`` with its ``Iteration``,
+``controllers.Control`` with its ``Vectors``, :class:`Saving`), and the loop
+returns one (:class:`Run`), so the compiled code has ten named arguments
+instead of twenty positional ones; numba compiles and caches the loop once
+per type of ``fun``, ``args``, ``jac`` and ``control``
+(:mod:`splinestep._compile`).  The records the loop reads at every step
+hold numbers only, and its vectors live in one buffer: an array passed
+into a helper inside the loop costs reference counting at every step.
+"""
+
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+from numba.extending import register_jitable
+
+from . import _compile
+from ._base import FD_STEP, as_vector
+from ._explicit import rk4_step, verlet_step
+from .controllers import CONSTANT, ERROR, REVERSIBLE, first_size, judge, propose
+from .result import HermiteSolution, SplineSolution, new_result, quintic_coefficients
+from .status import EVENT_FAILED, NON_FINITE, OK, TERMINAL_EVENT, message
+from .step import (FIXED_POINT, Iteration, Method, State, composed_step, local_errors, newton_call,
+                   step_state, sweep_step)
+
+# The methods (steps) the driver takes.
+SPLINE, COMPOSED, RK4, VERLET = 0, 1, 2, 3
+# The interpolant of a step, for t_eval and events: the spline's cubic, the
+# quintic Hermite through both knots' (y, y', y'') (a composition's, of its
+# order), and the cubic Hermite of (y, y') and of (y', y'') (the baselines').
+CUBIC, QUINTIC, HERMITE = 0, 1, 2
+
+
+@njit(cache=True)
+def dense_kind(kind):
+    """The interpolant of the steps of method ``kind``."""
+    if kind == SPLINE:
+        return CUBIC
+    return QUINTIC if kind == COMPOSED else HERMITE
+
+Saving = namedtuple("Saving", "t_eval store events")
+Saving.__doc__ = """What the driver keeps: values at ``t_eval`` (may be
+empty), every knot when ``store`` (else the first only), and the key of the
+events' tracker (:mod:`splinestep.events`), negative for none."""
+
+Run = namedtuple("Run", "status last_status fail_step t_last t_fail nfev njev niter attempts "
+                        "nstep n_rejected n_failed n_knots n_eval T K RHO E estimate "
+                        "y_at_err yp_at_err y_end yp_end")
+Run.__doc__ = """What the loop returns.  ``status`` (a code of
+:mod:`splinestep.status`), ``last_status`` (the last step's own),
+``fail_step`` (1-based index of the step that failed, 0 for the start),
+``t_last`` (the last knot reached), ``t_fail`` (where the failed step was
+headed), the counts, the knots ``T[:n_knots]`` with ``K`` (knot, (y, y',
+y''), component) and ``RHO`` (the reversible control of the step ending at
+each knot), the values at ``t_eval[:n_eval]`` in ``E`` ((y, y', y''),
+time, component), and the local error estimate: ``estimate`` holds
+(err_y, t_err, err_yp, y_scale, yp_scale, dt_at_err, dt_first, dt_last),
+with the state where err_y is largest and the final state."""
+
+_E_Y, _E_T, _E_YP, _E_YSCALE, _E_YPSCALE, _E_DT, _E_FIRST, _E_LAST = range(8)
+
+
+@register_jitable
+def dense_state(kind, s, dt, p0, v0, a0, p1, v1, a1):
+    """y, y', y'' at t + s on the step from t (p0, v0, a0) to t + dt (p1,
+    v1, a1) from the step's interpolant ``kind``.  Numbers in compiled code,
+    arrays (broadcast) in Python: :mod:`splinestep.events` locates zeros on
+    the same polynomials the loop evaluates at ``t_eval``."""
+    if kind == CUBIC:
+        d = (a1 - a0) / (6.0 * dt)
+        return (p0 + s * (v0 + s * (0.5 * a0 + s * d)), v0 + s * (a0 + 3.0 * s * d),
+                a0 + 6.0 * s * d)
+    if kind == QUINTIC:
+        c3, c4, c5 = quintic_coefficients(dt, p0, v0, a0, p1, v1, a1)
+        return (p0 + s * (v0 + s * (0.5 * a0 + s * (c3 + s * (c4 + s * c5)))),
+                v0 + s * (a0 + s * (3.0 * c3 + s * (4.0 * c4 + s * 5.0 * c5))),
+                a0 + s * (6.0 * c3 + s * (12.0 * c4 + s * 20.0 * c5)))
+    # Cubic Hermite bases on u = s / dt, and the derivative of the first
+    # two.  Its error is O(h^4): below Verlet's error, but of the order of
+    # RK4's own, so RK4 is best measured at its own steps (t_eval on them).
+    u = s / dt
+    h00 = (1.0 + 2.0 * u) * (1.0 - u) ** 2
+    h10 = u * (1.0 - u) ** 2 * dt
+    h01 = u * u * (3.0 - 2.0 * u)
+    h11 = u * u * (u - 1.0) * dt
+    d00 = 6.0 * u * (u - 1.0) / dt
+    d10 = (1.0 - u) * (1.0 - 3.0 * u)
+    d11 = u * (3.0 * u - 2.0)
+    return (h00 * p0 + h10 * v0 + h01 * p1 + h11 * v1,
+            h00 * v0 + h10 * a0 + h01 * v1 + h11 * a1,
+            d00 * (v0 - v1) + d10 * a0 + d11 * a1)
+
+
+# Rows of the driver's vector buffer: the state at t, at t_new, the third
+# derivative of the last step and of the new one, the state where the local
+# error estimate is largest.
+_Y, _YP, _YPP, _Y1, _YP1, _Z, _JERK, _JERK1, _Y_ERR, _YP_ERR = range(10)
+
+
+@njit(cache=True)
+def _grow(T, K, RHO):
+    """The knot arrays with twice the rows, the first ones copied."""
+    n = T.shape[0]
+    T2, K2, RHO2 = np.empty(2 * n), np.empty((2 * n,) + K.shape[1:]), np.empty(2 * n)
+    T2[:n] = T
+    K2[:n] = K
+    RHO2[:n] = RHO
+    return T2, K2, RHO2
+
+
+@njit(cache=True, inline="always")
+def _put(T, K, RHO, n, t, vec, rho):
+    """Store the knot t with (y, y', y'') from ``vec`` at row ``n`` and the
+    control variable of the step that ended there."""
+    T[n] = t
+    RHO[n] = rho
+    for k in range(vec.shape[1]):
+        K[n, 0, k] = vec[_Y, k]
+        K[n, 1, k] = vec[_YP, k]
+        K[n, 2, k] = vec[_YPP, k]
+
+
+@njit(cache=True)
+def _fill_eval(t_eval, n_eval, t, t_end, dt, kind, vec, E, direction):
+    """Values at the requested times in (t, t_end] from the interpolant of
+    the step of size dt from t held in ``vec`` (with dt = 0: at t itself,
+    from the state); returns the new count."""
+    m = vec.shape[1]
+    while n_eval < t_eval.shape[0] and direction * (t_eval[n_eval] - t_end) <= 0.0:
+        s = t_eval[n_eval] - t
+        for k in range(m):
+            if dt == 0.0:
+                E[0, n_eval, k], E[1, n_eval, k], E[2, n_eval, k] = (
+                    vec[_Y, k], vec[_YP, k], vec[_YPP, k])
+            else:
+                E[0, n_eval, k], E[1, n_eval, k], E[2, n_eval, k] = dense_state(
+                    kind, s, dt, vec[_Y, k], vec[_YP, k], vec[_YPP, k], vec[_Y1, k],
+                    vec[_YP1, k], vec[_Z, k])
+        n_eval += 1
+    return n_eval
+
+
+@njit(cache=True, inline="always")
+def _estimate(acc, vec, dt, dt_prev, t, spline, have_jump):
+    """After the accepted step of size ``dt`` from the knot ``t``: the
+    largest |y|, |y'|, the first and last steps, and (for spline steps
+    after the first) the largest estimated local errors (see
+    ``step.local_errors``) in ``acc``, with the state where that of y is
+    largest."""
+    m = vec.shape[1]
+    if not have_jump:
+        acc[_E_FIRST] = dt
+    # The last step, or the one before when the last was cut short at tf.
+    acc[_E_LAST] = dt if not have_jump or abs(dt) >= abs(dt_prev) else dt_prev
+    ey = 0.0
+    eyp = 0.0
+    for k in range(m):
+        acc[_E_YSCALE] = max(acc[_E_YSCALE], abs(vec[_Y, k]))
+        acc[_E_YPSCALE] = max(acc[_E_YPSCALE], abs(vec[_YP, k]))
+        if spline and have_jump:
+            est_y, est_yp = local_errors(vec[_JERK1, k], vec[_JERK, k], dt, dt_prev)
+            ey = max(ey, est_y)
+            eyp = max(eyp, est_yp)
+    if ey > acc[_E_Y]:
+        acc[_E_Y] = ey
+        acc[_E_T] = t
+        acc[_E_DT] = dt
+        for k in range(m):
+            vec[_Y_ERR, k] = vec[_Y, k]
+            vec[_YP_ERR, k] = vec[_YP, k]
+    acc[_E_YP] = max(acc[_E_YP], eyp)
+
+
+@njit(cache=True, inline="always")
+def _advance(vec, ev_out, at_event):
+    """The end of the accepted step (or the terminal event's state) becomes
+    the start of the next; so does its third derivative."""
+    for k in range(vec.shape[1]):
+        if at_event:
+            vec[_Y1, k], vec[_YP1, k], vec[_Z, k] = ev_out[0, k], ev_out[1, k], ev_out[2, k]
+        vec[_Y, k], vec[_YP, k], vec[_YPP, k] = vec[_Y1, k], vec[_YP1, k], vec[_Z, k]
+        vec[_JERK, k] = vec[_JERK1, k]
+
+
+@njit(cache=True, error_model="numpy")
+def _taylor_jerk(fun, args, t0, tf, vec):
+    """The third derivative at t0 from one difference of F along the Taylor
+    line, into the row _JERK (the error controller's first step compares
+    its interval's third derivative with it); returns the evaluations made."""
+    m = vec.shape[1]
+    direction = 1.0 if tf > t0 else -1.0
+    delta = FD_STEP * max(1.0, abs(t0), abs(tf - t0)) * direction
+    for k in range(m):
+        vec[_Y1, k] = vec[_Y, k] + delta * vec[_YP, k] + 0.5 * delta * delta * vec[_YPP, k]
+        vec[_YP1, k] = vec[_YP, k] + delta * vec[_YPP, k]
+    g = as_vector(fun(t0 + delta, vec[_Y1], vec[_YP1], *args))
+    for k in range(m):
+        vec[_JERK, k] = (g[k] - vec[_YPP, k]) / delta
+    return 1
+
+
+@njit(cache=True)
+def _start(ctrl, saving, t0, y0, yp0, ypp0):
+    """The buffers of a run: ``vec`` (rows _Y ... _YP_ERR) holding the
+    start, the knot arrays T, K (knot, (y, y', y''), component) and RHO
+    (n + 1 rows for a constant grid, 256 doubled as needed otherwise, 1 when
+    the knots are not stored) holding the first knot, E (3, len(t_eval), m)
+    and ``acc``."""
+    m = y0.shape[0]
+    vec = np.zeros((10, m))
+    vec[_Y], vec[_YP], vec[_YPP], vec[_Y_ERR], vec[_YP_ERR] = y0, yp0, ypp0, y0, yp0
+    rows = 1
+    if saving.store:
+        rows = ctrl.n + 1 if ctrl.kind == CONSTANT else 256
+    T, K, RHO = np.empty(rows), np.empty((rows, 3, m)), np.zeros(rows)
+    _put(T, K, RHO, 0, t0, vec, np.nan)
+    acc = np.zeros(8)
+    acc[_E_T] = t0
+    return vec, T, K, RHO, np.empty((3, saving.t_eval.shape[0], m)), acc
+
+
+@njit(cache=True)
+def _value_status(g):
+    """OK, or NON_FINITE for a vector g with a value that is not finite."""
+    for k in range(g.shape[0]):
+        if not abs(g[k]) < np.inf:
+            return NON_FINITE
+    return OK
+
+
+def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving, start):
+    """Step from t0 to ctrl.tf (module docstring); ``start`` is (t0, y0,
+    y'0, F there), F evaluated (and counted) by the front door, ``vectors``
+    the controller's arrays (:class:`splinestep.controllers.Vectors`).  Returns a :class:`Run`.  The hot path
+    (the sweep) keeps its vectors in one buffer and its settings in records
+    of numbers: every array passed into the loop's helpers costs reference
+    counting at every step."""
+    t0, y0, yp0, ypp0 = start
+    knots, atol = vectors.knots, vectors.atol
+    m, it, kind, t_eval = y0.shape[0], method.iteration, dense_kind(method.kind), saving.t_eval
+    vec, T, K, RHO, E, acc = _start(ctrl, saving, t0, y0, yp0, ypp0)
+    y, yp, ypp, y_new, yp_new, z = vec[_Y], vec[_YP], vec[_YPP], vec[_Y1], vec[_YP1], vec[_Z]
+    kept, stage, ev_out = step_state(m, np.max(method.slots) + 1), np.empty((4, m)), \
+        np.empty((3, m))
+    s = State(y, yp, ypp, y_new, yp_new, z)
+    sub = State(np.empty(m), np.empty(m), np.empty(m), y_new, yp_new, z)
+    nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
+    direction, spline = (1.0 if ctrl.tf > t0 else -1.0), method.kind <= COMPOSED
+    status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0), t0, t0, 0, OK, 0
+    n_knots, size, rho, dt_prev, after_reject = 1, first_size(ctrl, atol, t0, y0, yp0), 0.0, 0.0, False
+    if status == OK:
+        n_eval = _fill_eval(t_eval, 0, t0, t0, 0.0, kind, vec, E, direction)
+        if ctrl.kind == ERROR:
+            nfev += _taylor_jerk(fun, args, t0, ctrl.tf, vec)
+        if ctrl.kind == REVERSIBLE:
+            rho = ctrl.rho0 + 0.5 * direction * ctrl.eps * control(t0, y, yp, *control_args)
+    while status == OK:
+        status, t_new, done = propose(ctrl, t0, t, attempts, accepted, size, rho)
+        if done or status != OK:
+            fail_step = attempts + 1
+            break
+        if ctrl.kind == CONSTANT and knots.shape[0] > 0:
+            t_new = knots[accepted + 1]
+        dt = t_new - t
+        if method.kind == SPLINE and it.mode == FIXED_POINT:   # the hot path, inlined
+            status, fe, je, ni = sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new,
+                                            it, kept.work)
+        elif method.kind == SPLINE:
+            status, fe, je, ni = newton_call(fun, args, jac, t_new, dt, s, it, kept, 0)
+        elif method.kind == COMPOSED:
+            status, fe, je, ni = composed_step(fun, args, jac, t, t_new, s, method, kept, sub)
+        elif method.kind == RK4:
+            status, fe, je, ni = rk4_step(fun, args, t, t_new, dt, y, yp, ypp, y_new, yp_new, z,
+                                          stage)
+        else:
+            status, fe, je, ni = verlet_step(fun, args, t_new, dt, y, yp, ypp, y_new, yp_new,
+                                             z, stage[0])
+        nfev, njev, niter, attempts, last_status = (nfev + fe, njev + je, niter + ni,
+                                                    attempts + 1, status)
+        if spline:
+            for k in range(m):
+                vec[_JERK1, k] = (z[k] - ypp[k]) / dt
+        if ctrl.kind == ERROR:
+            keep, size = judge(ctrl, atol, status, dt, dt_prev, vec[_JERK1], vec[_JERK], y, yp,
+                               y_new, yp_new, after_reject)
+            after_reject = not keep
+            if not keep:
+                n_rejected, n_failed = n_rejected + int(status == OK), n_failed + int(status != OK)
+                status = OK
+                continue
+        elif status != OK:
+            fail_step = attempts
+            break
+        _estimate(acc, vec, dt, dt_prev, t, spline, accepted > 0)
+        stop, t_end = 0, t_new
+        if saving.events >= 0.0:
+            stop, t_ev = _compile.python_events(saving.events, t, t_new, kind, vec[:6], ev_out)
+            t_end = t_ev if stop == 1 else t_new
+        if n_eval < t_eval.shape[0] and direction * (t_eval[n_eval] - t_end) <= 0.0:
+            n_eval = _fill_eval(t_eval, n_eval, t, t_end, dt, kind, vec, E, direction)
+        if stop == 2:
+            status, fail_step = EVENT_FAILED, attempts
+            break
+        _advance(vec, ev_out, stop == 1)
+        t, dt_prev, accepted = t_end, dt, accepted + 1
+        if saving.store:
+            if n_knots == T.shape[0]:
+                T, K, RHO = _grow(T, K, RHO)
+            _put(T, K, RHO, n_knots, t, vec, rho)
+            n_knots += 1
+        if stop == 1:
+            status = TERMINAL_EVENT
+        elif ctrl.kind == REVERSIBLE:
+            rho += direction * ctrl.eps * control(t, y, yp, *control_args)
+    return Run(status, last_status, -1 if status == OK else fail_step, t, t_new, nfev, njev,
+               niter, attempts, accepted, n_rejected, n_failed, n_knots, n_eval, T, K, RHO, E,
+               acc, vec[_Y_ERR].copy(), vec[_YP_ERR].copy(), y.copy(), yp.copy())
+
+
+def method(kind, mode=FIXED_POINT, n_iter=1, until_converged=True, tol=1e-12, reuse=True,
+           weights=(1.0,), slots=(0,)):
+    """The :class:`splinestep.step.Method` record of a step."""
+    return Method(int(kind), Iteration(int(mode), int(n_iter), bool(until_converged), float(tol),
+                                       bool(reuse)),
+                  np.asarray(weights, dtype=float), np.asarray(slots, dtype=np.int64))
+
+
+def run(path, fun, jac, args, method, controller, output, start, control=None):
+    """Run the compiled driver on the ``path`` ("compiled" or "plain") and
+    return its :class:`Run` and the reason a plain fun's value was refused
+    (None if none).  ``controller`` is (Control, Vectors) of
+    :mod:`splinestep.controllers`, ``output`` (t_eval or None, store the knots?, a
+    :class:`splinestep.events.Tracker` or None), ``start`` (t0, y0, yp0,
+    F there), ``control`` the reversible controller's G(t, y, y'), if any."""
+    t_eval, store, events = output
+    ctrl, vectors = controller
+    t_eval = np.empty(0) if t_eval is None else t_eval
+    start = (float(start[0]),) + tuple(start[1:])
+    with _compile.loop_callables(path, fun, jac, args) as (loop_fun, loop_jac, loop_args), \
+            _compile.scalar_callable(path, control, args) as (loop_control, control_args), \
+            _compile.event_tracker(events) as key:
+        saving = Saving(t_eval, bool(store), key)
+        loop = _compile.compiled_driver(_drive, loop_fun, loop_jac, loop_args, loop_control,
+                                        control_args, method, ctrl, vectors, saving, start)
+        out = loop(loop_fun, loop_args, loop_jac, loop_control, control_args, method, ctrl,
+                   vectors, saving, start)
+        reason = _compile.reason(loop_args) if path == "plain" else None
+    if events is not None and events.error is not None:
+        raise events.error
+    return out, reason
+
+
+def result_of(out, t_eval, max_iter, ctrl, reason=None, *, path, order=2, method="spline",
+              njev=0, dense_output=False):
+    """The one result builder of driver runs: the :class:`OdeResult` of the
+    :class:`Run` ``out`` (knots, or values at ``t_eval``), with its message
+    from :func:`splinestep.status.message`.  ``njev`` adds the front door's
+    own calls of jac; the start's evaluation of fun is counted here."""
+    n, m = out.n_knots, out.K.shape[2]
+    if t_eval is None:
+        t, (y, yp, ypp) = out.T[:n], (out.K[:n, j] for j in range(3))
+    else:
+        t, (y, yp, ypp) = t_eval[:out.n_eval], (out.E[j, :out.n_eval] for j in range(3))
+    code = out.status
+    status = 0 if code == OK else 1 if code == TERMINAL_EVENT else -1
+    result = new_result(
+        t=t.copy(), y=y.T.copy(), yp=yp.T.copy(), ypp=ypp.T.copy(), nfev=int(out.nfev) + 1,
+        njev=int(out.njev) + njev, niter=int(out.niter), nstep=int(out.nstep),
+        n_rejected=int(out.n_rejected), n_failed=int(out.n_failed),
+        rho=out.RHO[1:n].copy() if ctrl.kind == REVERSIBLE else None,
+        method=method, order=order, path=path, status=status,
+        message=message(out, max_iter, m, ctrl.max_steps, reason))
+    if dense_output and n >= 2:
+        knots = (out.T[:n], *(out.K[:n, j] for j in range(3)))
+        result.sol = (HermiteSolution if order > 2 else SplineSolution)(*knots)
+    return result

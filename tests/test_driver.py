@@ -1,0 +1,187 @@
+"""The one driver: every path (uniform, knots, adaptive, reversible, order
+4, RK4, Verlet) has the same features, measured against exact solutions of
+y'' = -y (y = cos t from (1, 0)) and against counters around fun."""
+
+import numpy as np
+import pytest
+
+import splinestep
+from splinestep import controllers, driver, problems
+
+
+def oscillator(t, y, yp):
+    return -y
+
+
+def zero_control(t, y, yp):
+    return 0.0
+
+
+# Each path: a callable (fun, t_span, **kwargs) -> result.
+PATHS = {
+    "uniform": lambda f, span, **kw: splinestep.solve(f, span, 1.0, 0.0, 0.01, **kw),
+    "knots": lambda f, span, **kw: splinestep.solve(
+        f, span, 1.0, 0.0, knots=np.linspace(*span, round(abs(span[1] - span[0]) / 0.01) + 1),
+        **kw),
+    "newton": lambda f, span, **kw: splinestep.solve(f, span, 1.0, 0.0, 0.01,
+                                                     iteration="newton", **kw),
+    "order 4": lambda f, span, **kw: splinestep.solve(f, span, 1.0, 0.0, 0.05, order=4, **kw),
+    "adaptive": lambda f, span, **kw: splinestep.solve(f, span, 1.0, 0.0, rtol=1e-9,
+                                                       atol=1e-12, **kw),
+    "reversible": lambda f, span, **kw: splinestep.solve_reversible(
+        f, span, 1.0, 0.0, 0.01, zero_control, **kw),
+    "rk4": lambda f, span, **kw: splinestep.rk4(f, span, 1.0, 0.0, 0.01, **kw),
+    "verlet": lambda f, span, **kw: splinestep.verlet(f, span, 1.0, 0.0, 0.01, **kw),
+}
+EVENT_PATHS = [p for p in PATHS if p not in ("rk4", "verlet")]
+
+
+def counted(f):
+    calls = [0]
+
+    def wrapped(t, y, yp):
+        calls[0] += 1
+        return f(t, y, yp)
+    return wrapped, calls
+
+
+@pytest.mark.parametrize("path", list(PATHS))
+def test_every_path_returns_the_same_keys_and_counts_every_call(path):
+    fun, calls = counted(oscillator)
+    res = PATHS[path](fun, (0.0, 2.0))
+    assert res.success and res.status == 0
+    assert set(res) == set(splinestep.result.DEFAULTS)
+    assert res.nfev == calls[0]
+    bvp = splinestep.solve_bvp(oscillator, np.linspace(0, 1, 11), 0.0, 1.0)
+    assert set(bvp) == set(res)
+
+
+BACKWARD = {
+    "uniform": lambda y0, yp0, t_eval: splinestep.solve(oscillator, (3.0, 0.0), y0, yp0, 0.01,
+                                                        t_eval=t_eval),
+    "adaptive": lambda y0, yp0, t_eval: splinestep.solve(oscillator, (3.0, 0.0), y0, yp0,
+                                                         rtol=1e-7, atol=1e-9, t_eval=t_eval),
+    "reversible": lambda y0, yp0, t_eval: splinestep.solve_reversible(
+        oscillator, (3.0, 0.0), y0, yp0, 0.01, zero_control, t_eval=t_eval),
+    "rk4": lambda y0, yp0, t_eval: splinestep.rk4(oscillator, (3.0, 0.0), y0, yp0, 0.01,
+                                                  t_eval=t_eval),
+    "verlet": lambda y0, yp0, t_eval: splinestep.verlet(oscillator, (3.0, 0.0), y0, yp0, 0.01,
+                                                        t_eval=t_eval),
+}
+
+
+@pytest.mark.parametrize("path", list(BACKWARD))
+def test_t_eval_backward(path):
+    """Backward from t = 3 to 0 with values at t_eval: the error against
+    cos t is the method's (h = 0.01: the spline's h^2 t / 24 ~ 1e-5, RK4's
+    below 1e-9)."""
+    t_eval = np.linspace(3.0, 0.0, 7)
+    res = BACKWARD[path](np.cos(3.0), -np.sin(3.0), t_eval)
+    assert res.success and np.array_equal(res.t, t_eval)
+    error = np.max(np.abs(res.y[0] - np.cos(t_eval)))
+    assert error < (1e-9 if path == "rk4" else 3e-5)
+
+
+@pytest.mark.parametrize("path", EVENT_PATHS)
+def test_a_terminal_event_stops_the_run_where_it_fires(path):
+    """y = cos t crosses zero at pi/2: the run ends there, having computed
+    nothing much past it (it would run to t = 100)."""
+    def zero(t, y, yp):
+        return y[0]
+    zero.terminal = True
+    fun, calls = counted(oscillator)
+    res = PATHS[path](fun, (0.0, 100.0), events=zero)
+    assert res.status == 1 and res.success
+    assert res.t_events[0].shape == (1,)
+    assert abs(res.t_events[0][0] - np.pi / 2) < 1e-4
+    assert res.t[-1] == res.t_events[0][0]
+    assert res.nfev == calls[0] < 2000   # a full run to t = 100 takes 2e4 or more
+
+
+def test_events_of_a_composition_are_of_its_order():
+    """Order 4: the zeros of cos t located on the quintic Hermite are as
+    accurate as the run itself (|y'| = 1 there, so a time error is a value
+    error), and halving h divides their error by about 2^4."""
+    def zero(t, y, yp):
+        return y[0]
+    errors = []
+    for h in (0.1, 0.05):
+        res = splinestep.solve(oscillator, (0.0, 10.0), 1.0, 0.0, h, order=4, events=zero)
+        exact = np.pi / 2 + np.pi * np.arange(3)
+        errors.append(np.max(np.abs(res.t_events[0] - exact)))
+        own = np.max(np.abs(res.y[0] - np.cos(res.t))[res.t < 9.0])
+        assert errors[-1] < 2 * own
+    assert abs(np.log2(errors[0] / errors[1]) - 4) < 0.2
+
+
+def test_rk4_and_verlet_backward_keep_their_order():
+    """Backward from t = 2 to 0.5: the errors there fall as h^4 and h^2
+    (not at t = 0, where cos has no slope and a phase error does not show)."""
+    for solver, order in ((splinestep.rk4, 4), (splinestep.verlet, 2)):
+        errors = [abs(solver(oscillator, (2.0, 0.5), np.cos(2.0), -np.sin(2.0), h).y[0, -1]
+                      - np.cos(0.5)) for h in (0.02, 0.01)]
+        assert abs(np.log2(errors[0] / errors[1]) - order) < 0.1
+
+
+def test_plain_fun_values_that_go_wrong_later_are_named():
+    """Complex values, None and a wrong-shape jac after t0: each is a failed
+    run whose message says what fun (or jac) returned, and where."""
+    def complex_later(t, y, yp):
+        return -y + (1j if t > 0.25 else 0)
+    res = splinestep.solve(complex_later, (0, 1), 1.0, 0.0, 0.1)
+    assert res.status == -1 and "complex values at t = 0.3" in res.message
+    assert res.nstep == 2
+
+    def none_later(t, y, yp):
+        return None if t > 0.25 else -y
+    res = splinestep.solve(none_later, (0, 1), 1.0, 0.0, 0.1)
+    assert res.status == -1 and "fun returned None at t = 0.3" in res.message
+
+    def jac_later(t, y, yp):
+        return (-np.eye(1), np.zeros((1, 1))) if t < 0.25 else (np.eye(2), np.eye(2))
+    res = splinestep.solve(oscillator, (0, 1), 1.0, 0.0, 0.1, iteration="newton",
+                           jac=jac_later, reuse_jacobian=False)
+    assert res.status == -1 and "jac did not return two arrays of shape (1, 1)" in res.message
+    assert "singular" not in res.message
+
+
+def test_max_steps_stops_every_variable_controller():
+    for res in (splinestep.solve(oscillator, (0, 10), 1.0, 0.0, rtol=1e-10, max_steps=50),
+                splinestep.solve_reversible(oscillator, (0, 10), 1.0, 0.0, 0.01, zero_control,
+                                            max_steps=50)):
+        assert res.status == -1 and "max_steps = 50" in res.message and res.nstep <= 50
+
+
+def test_the_driver_settings_are_records():
+    """The compiled loop takes a few named records, not twenty positional
+    numbers: its signature is fun, args, jac, control, control_args, the
+    step, the controller and its arrays, what to save, and the start."""
+    ctrl, vectors = controllers.constant(1.0, 0.5, 2, np.empty(0), 10)
+    assert ctrl.kind == controllers.CONSTANT and ctrl.max_steps == 10
+    assert all(np.isscalar(value) for value in ctrl)   # numbers only: no refcounting
+    step = driver.method(driver.RK4)
+    assert step.kind == driver.RK4 and step.weights.shape == (1,)
+    assert all(np.isscalar(value) for value in step.iteration)
+    assert driver._drive.__code__.co_argcount == 10
+
+
+def test_unknown_options_are_named():
+    with pytest.raises(ValueError, match="rtoll"):
+        splinestep.solve(oscillator, (0, 1), 1.0, 0.0, rtoll=1e-3)
+    with pytest.raises(ValueError, match="h_max"):
+        splinestep.solve_reversible(oscillator, (0, 1), 1.0, 0.0, 0.1, zero_control, h_max=1)
+
+
+def test_a_raising_event_is_raised():
+    def bad(t, y, yp):
+        if t > 0.5:
+            raise RuntimeError("event broke")
+        return 1.0
+    with pytest.raises(RuntimeError, match="event broke"):
+        splinestep.solve(oscillator, (0, 1), 1.0, 0.0, 0.1, events=bad)
+
+
+def test_problems_still_solve_on_every_method():
+    problem = problems.cannonball(0.6)
+    for method in ("spline", "rk4"):
+        assert problem.solve(method).success
