@@ -33,7 +33,7 @@ PATHS = {
     "rk4": lambda f, span, **kw: splinestep.rk4(f, span, 1.0, 0.0, 0.01, **kw),
     "verlet": lambda f, span, **kw: splinestep.verlet(f, span, 1.0, 0.0, 0.01, **kw),
 }
-EVENT_PATHS = [p for p in PATHS if p not in ("rk4", "verlet")]
+EVENT_PATHS = list(PATHS)
 
 
 def counted(f):
@@ -185,3 +185,48 @@ def test_problems_still_solve_on_every_method():
     problem = problems.cannonball(0.6)
     for method in ("spline", "rk4"):
         assert problem.solve(method).success
+
+
+def test_solve_bvp_counts_every_call():
+    fun, calls = counted(oscillator)
+    res = splinestep.solve_bvp(fun, np.linspace(0, 1, 11), 0.0, 1.0)
+    assert res.success and res.nfev == calls[0]
+
+
+def test_a_recovered_refusal_is_not_the_reason_of_a_later_failure():
+    """An adaptive run that meets None once, retries smaller and goes on,
+    then fails on NaN values, says NaN (not finite), not None."""
+    seen = []
+
+    def flaky(t, y, yp):
+        if 1.0 < t < 1.2 and not seen:
+            seen.append(t)
+            return None
+        return -y if t < 2.0 else np.full(1, np.nan)
+    res = splinestep.solve(flaky, (0, 5), 1.0, 0.0, rtol=1e-6)
+    assert seen and res.status == -1
+    assert "None" not in res.message and "not finite" in res.message
+
+
+def test_the_check_survives_a_jac_that_fails_at_the_end():
+    """A jac that returns None after t = 0.5 is not used by the steps of a
+    run with a kept matrix (built at t0); the step-size check after the run
+    must not raise on it."""
+    def jac(t, y, yp):
+        return (-np.eye(1), np.zeros((1, 1))) if t < 0.5 else None
+    res = splinestep.solve(oscillator, (0, 1), 1.0, 0.0, 0.01, iteration="newton", jac=jac)
+    assert res.success
+
+
+def test_the_size_in_the_warning_includes_the_last_knot():
+    """y'' = y at h = 2 (Newton): the message's max |y| is the largest |y|
+    at the knots, the last included (it grows at every step)."""
+    with pytest.warns(UserWarning):
+        res = splinestep.solve(lambda t, y, yp: y, (0, 30), 1.0, 0.0, 2.0, iteration="newton")
+    assert f"max |y| = {np.max(np.abs(res.y)):.3g}" in res.message
+
+
+def test_a_control_that_is_not_finite_is_named():
+    res = splinestep.solve_reversible(oscillator, (0, 1), 1.0, 0.0, 0.1,
+                                      lambda t, y, yp: np.nan if t > 0.3 else 0.0)
+    assert res.status == -1 and "not finite" in res.message

@@ -175,9 +175,10 @@ def _python_jac(t, y, yp, key):
     return fy, fyp
 
 
-# Why a plain ``fun`` or ``jac`` returned a value the loop cannot use, by the
-# key of its callbacks: the loop sees only a wrong shape or a NaN, the front
-# door reads the sentence here (:func:`reason`).
+# Why a plain ``fun`` or ``jac`` last returned a value the loop cannot use,
+# by the key of its callbacks: the loop sees only a wrong shape or a NaN, the
+# front door reads the sentence here (:func:`reason`) when the run failed
+# with that code (an adaptive run may have recovered from an earlier one).
 _REASONS = {}
 
 
@@ -193,13 +194,13 @@ def _vector(key, t, value, m):
     if value is None or array.dtype.kind not in "iufb":
         what = ("complex values" if array.dtype.kind == "c" else
                 "None" if value is None else f"a {type(value).__name__}")
-        _REASONS.setdefault(key, f"fun returned {what} at t = {t:.10g} (it must return "
-                                 f"{m} real numbers)")
+        _REASONS[key] = (f"fun returned {what} at t = {t:.10g} (it must return an array "
+                         f"of {m} real numbers)")
         return np.empty(0)
     g = np.atleast_1d(array.astype(np.float64))
     if g.shape != (m,):
-        _REASONS.setdefault(key, f"fun returned an array of shape {array.shape} at "
-                                 f"t = {t:.10g} (expected shape ({m},))")
+        _REASONS[key] = (f"fun returned an array of shape {array.shape} at t = {t:.10g} "
+                         f"(expected shape ({m},))")
         return np.empty(0)
     return g
 
@@ -213,8 +214,7 @@ def _matrices(key, t, value, m):
     except (TypeError, ValueError):
         parts = []
     if len(parts) != 2 or any(part.shape != (m, m) for part in parts):
-        _REASONS.setdefault(key, f"jac did not return two arrays of shape ({m}, {m}) at "
-                                 f"t = {t:.10g}")
+        _REASONS[key] = f"jac did not return two arrays of shape ({m}, {m}) at t = {t:.10g}"
         return np.full((m, m), np.nan), np.full((m, m), np.nan)
     return parts[0], parts[1]
 

@@ -301,4 +301,5 @@ def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-10, max
         status, message, niter, nfev, njev = newton(
             fun, jac, args, x, U, bc if bc is not None else [(0, 0, ya), (x.size - 1, 0, yb)],
             tol, max_iter)
-    return result(x, U, status, message, niter, nfev, njev)
+    # The counts include the calls of fun and jac that checked them at x[0].
+    return result(x, U, status, message, niter, nfev + 1, njev + int(jac is not None))

@@ -153,7 +153,7 @@ def propose(ctrl, t0, t, attempts, accepted, size, rho):
         return TOO_MANY_STEPS, t, False
     remaining = abs(tf - t)
     if ctrl.kind == REVERSIBLE:
-        if not rho > 0.0:
+        if not 0.0 < rho < np.inf:
             return RHO_NOT_POSITIVE, t, False
         dt = ctrl.eps / rho
         return OK, (tf if dt >= remaining else t + direction * dt), False

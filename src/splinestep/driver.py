@@ -44,11 +44,11 @@ from numba import njit
 from numba.extending import register_jitable
 
 from . import _compile
-from ._base import FD_STEP, as_vector
+from ._base import FD_STEP, as_vector, wrong_length
 from ._explicit import rk4_step, verlet_step
 from .controllers import CONSTANT, ERROR, REVERSIBLE, first_size, judge, propose
 from .result import HermiteSolution, SplineSolution, new_result, quintic_coefficients
-from .status import EVENT_FAILED, NON_FINITE, OK, TERMINAL_EVENT, message
+from .status import BAD_SHAPE, EVENT_FAILED, NON_FINITE, OK, TERMINAL_EVENT, message
 from .step import (FIXED_POINT, Iteration, Method, State, composed_step, local_errors, newton_call,
                    step_state, sweep_step)
 
@@ -170,12 +170,12 @@ def _fill_eval(t_eval, n_eval, t, t_end, dt, kind, vec, E, direction):
 
 
 @njit(cache=True, inline="always")
-def _estimate(acc, vec, dt, dt_prev, t, spline, have_jump):
-    """After the accepted step of size ``dt`` from the knot ``t``: the
-    largest |y|, |y'|, the first and last steps, and (for spline steps
-    after the first) the largest estimated local errors (see
-    ``step.local_errors``) in ``acc``, with the state where that of y is
-    largest."""
+def _estimate(acc, vec, dt, dt_prev, t, have_jump):
+    """After the accepted spline step of size ``dt`` from the knot ``t``:
+    the largest |y|, |y'| (the step's end included), the first and last
+    steps, and (after the first step) the largest estimated local errors
+    (see ``step.local_errors``) in ``acc``, with the state where that of y
+    is largest."""
     m = vec.shape[1]
     if not have_jump:
         acc[_E_FIRST] = dt
@@ -184,9 +184,9 @@ def _estimate(acc, vec, dt, dt_prev, t, spline, have_jump):
     ey = 0.0
     eyp = 0.0
     for k in range(m):
-        acc[_E_YSCALE] = max(acc[_E_YSCALE], abs(vec[_Y, k]))
-        acc[_E_YPSCALE] = max(acc[_E_YPSCALE], abs(vec[_YP, k]))
-        if spline and have_jump:
+        acc[_E_YSCALE] = max(acc[_E_YSCALE], abs(vec[_Y1, k]))
+        acc[_E_YPSCALE] = max(acc[_E_YPSCALE], abs(vec[_YP1, k]))
+        if have_jump:
             est_y, est_yp = local_errors(vec[_JERK1, k], vec[_JERK, k], dt, dt_prev)
             ey = max(ey, est_y)
             eyp = max(eyp, est_yp)
@@ -215,7 +215,8 @@ def _advance(vec, ev_out, at_event):
 def _taylor_jerk(fun, args, t0, tf, vec):
     """The third derivative at t0 from one difference of F along the Taylor
     line, into the row _JERK (the error controller's first step compares
-    its interval's third derivative with it); returns the evaluations made."""
+    its interval's third derivative with it); returns OK, or BAD_SHAPE for
+    a value of the wrong length (one evaluation either way)."""
     m = vec.shape[1]
     direction = 1.0 if tf > t0 else -1.0
     delta = FD_STEP * max(1.0, abs(t0), abs(tf - t0)) * direction
@@ -223,9 +224,11 @@ def _taylor_jerk(fun, args, t0, tf, vec):
         vec[_Y1, k] = vec[_Y, k] + delta * vec[_YP, k] + 0.5 * delta * delta * vec[_YPP, k]
         vec[_YP1, k] = vec[_YP, k] + delta * vec[_YPP, k]
     g = as_vector(fun(t0 + delta, vec[_Y1], vec[_YP1], *args))
+    if wrong_length(g, m):
+        return BAD_SHAPE
     for k in range(m):
         vec[_JERK, k] = (g[k] - vec[_YPP, k]) / delta
-    return 1
+    return OK
 
 
 @njit(cache=True)
@@ -245,6 +248,9 @@ def _start(ctrl, saving, t0, y0, yp0, ypp0):
     _put(T, K, RHO, 0, t0, vec, np.nan)
     acc = np.zeros(8)
     acc[_E_T] = t0
+    for k in range(m):
+        acc[_E_YSCALE] = max(acc[_E_YSCALE], abs(y0[k]))
+        acc[_E_YPSCALE] = max(acc[_E_YPSCALE], abs(yp0[k]))
     return vec, T, K, RHO, np.empty((3, saving.t_eval.shape[0], m)), acc
 
 
@@ -260,7 +266,8 @@ def _value_status(g):
 def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving, start):
     """Step from t0 to ctrl.tf (module docstring); ``start`` is (t0, y0,
     y'0, F there), F evaluated (and counted) by the front door, ``vectors``
-    the controller's arrays (:class:`splinestep.controllers.Vectors`).  Returns a :class:`Run`.  The hot path
+    the controller's arrays (:class:`splinestep.controllers.Vectors`).
+    Returns a :class:`Run`.  The hot path
     (the sweep) keeps its vectors in one buffer and its settings in records
     of numbers: every array passed into the loop's helpers costs reference
     counting at every step."""
@@ -271,16 +278,21 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
     y, yp, ypp, y_new, yp_new, z = vec[_Y], vec[_YP], vec[_YPP], vec[_Y1], vec[_YP1], vec[_Z]
     kept, stage, ev_out = step_state(m, np.max(method.slots) + 1), np.empty((4, m)), \
         np.empty((3, m))
+    work, velocity, jerk1, jerk0 = kept.work, stage[0], vec[_JERK1], vec[_JERK]
+    # The records' numbers as plain locals: a field read from a record that
+    # holds arrays is not free inside the loop.
+    mkind, mode, store, events = method.kind, it.mode, saving.store, saving.events
     s = State(y, yp, ypp, y_new, yp_new, z)
     sub = State(np.empty(m), np.empty(m), np.empty(m), y_new, yp_new, z)
     nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
     direction, spline = (1.0 if ctrl.tf > t0 else -1.0), method.kind <= COMPOSED
     status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0), t0, t0, 0, OK, 0
-    n_knots, size, rho, dt_prev, after_reject = 1, first_size(ctrl, atol, t0, y0, yp0), 0.0, 0.0, False
+    n_knots, size, rho = 1, first_size(ctrl, atol, t0, y0, yp0), 0.0
+    dt_prev, after_reject = 0.0, False
     if status == OK:
         n_eval = _fill_eval(t_eval, 0, t0, t0, 0.0, kind, vec, E, direction)
         if ctrl.kind == ERROR:
-            nfev += _taylor_jerk(fun, args, t0, ctrl.tf, vec)
+            status, nfev = _taylor_jerk(fun, args, t0, ctrl.tf, vec), nfev + 1
         if ctrl.kind == REVERSIBLE:
             rho = ctrl.rho0 + 0.5 * direction * ctrl.eps * control(t0, y, yp, *control_args)
     while status == OK:
@@ -291,27 +303,27 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
         if ctrl.kind == CONSTANT and knots.shape[0] > 0:
             t_new = knots[accepted + 1]
         dt = t_new - t
-        if method.kind == SPLINE and it.mode == FIXED_POINT:   # the hot path, inlined
+        if mkind == SPLINE and mode == FIXED_POINT:   # the hot path, inlined
             status, fe, je, ni = sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new,
-                                            it, kept.work)
-        elif method.kind == SPLINE:
+                                            it, work)
+        elif mkind == SPLINE:
             status, fe, je, ni = newton_call(fun, args, jac, t_new, dt, s, it, kept, 0)
-        elif method.kind == COMPOSED:
+        elif mkind == COMPOSED:
             status, fe, je, ni = composed_step(fun, args, jac, t, t_new, s, method, kept, sub)
-        elif method.kind == RK4:
+        elif mkind == RK4:
             status, fe, je, ni = rk4_step(fun, args, t, t_new, dt, y, yp, ypp, y_new, yp_new, z,
                                           stage)
         else:
             status, fe, je, ni = verlet_step(fun, args, t_new, dt, y, yp, ypp, y_new, yp_new,
-                                             z, stage[0])
+                                             z, velocity)
         nfev, njev, niter, attempts, last_status = (nfev + fe, njev + je, niter + ni,
                                                     attempts + 1, status)
         if spline:
             for k in range(m):
-                vec[_JERK1, k] = (z[k] - ypp[k]) / dt
+                jerk1[k] = (z[k] - ypp[k]) / dt
         if ctrl.kind == ERROR:
-            keep, size = judge(ctrl, atol, status, dt, dt_prev, vec[_JERK1], vec[_JERK], y, yp,
-                               y_new, yp_new, after_reject)
+            keep, size = judge(ctrl, atol, status, dt, dt_prev, jerk1, jerk0, y, yp, y_new,
+                               yp_new, after_reject)
             after_reject = not keep
             if not keep:
                 n_rejected, n_failed = n_rejected + int(status == OK), n_failed + int(status != OK)
@@ -320,10 +332,11 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
         elif status != OK:
             fail_step = attempts
             break
-        _estimate(acc, vec, dt, dt_prev, t, spline, accepted > 0)
+        if spline:
+            _estimate(acc, vec, dt, dt_prev, t, accepted > 0)
         stop, t_end = 0, t_new
-        if saving.events >= 0.0:
-            stop, t_ev = _compile.python_events(saving.events, t, t_new, kind, vec[:6], ev_out)
+        if events >= 0.0:
+            stop, t_ev = _compile.python_events(events, t, t_new, kind, vec[:6], ev_out)
             t_end = t_ev if stop == 1 else t_new
         if n_eval < t_eval.shape[0] and direction * (t_eval[n_eval] - t_end) <= 0.0:
             n_eval = _fill_eval(t_eval, n_eval, t, t_end, dt, kind, vec, E, direction)
@@ -332,7 +345,7 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
             break
         _advance(vec, ev_out, stop == 1)
         t, dt_prev, accepted = t_end, dt, accepted + 1
-        if saving.store:
+        if store:
             if n_knots == T.shape[0]:
                 T, K, RHO = _grow(T, K, RHO)
             _put(T, K, RHO, n_knots, t, vec, rho)

@@ -18,9 +18,11 @@ class OdeResult(dict):
         Times of the reported values (the knots, or ``t_eval``).
     y, yp, ypp : ndarray, shape (m, k)
         Solution, its first and its second derivative at ``t``.
-    sol : SplineSolution or None
-        The piecewise-cubic solution (``dense_output=True`` of
-        :func:`splinestep.solve`), otherwise None.
+    sol : SplineSolution, HermiteSolution or None
+        The dense output when asked for (``dense_output=True``; the default of
+        :func:`splinestep.solve_reversible`, always for
+        :func:`splinestep.solve_bvp`): the C2 cubic spline, or for order 4 or
+        6 the quintic Hermite through the knots; otherwise None.
     nfev : int
         Number of evaluations of the right-hand side (finite-difference
         Jacobian evaluations included).
@@ -54,7 +56,9 @@ class OdeResult(dict):
     order : int
         The order of the method (2, 4 or 6 for the spline).
     path : {"compiled", "plain"}
-        Whether the stepping loop ran compiled by numba or as plain Python.
+        How the compiled loop called ``fun``: directly ("compiled", a
+        ``numba.njit`` fun) or through the interpreter ("plain"; always for
+        global and boundary value solves, which run in Python).
     status : int
         0 if the end of the span was reached, 1 if a terminal event stopped
         the run, -1 if the run failed.

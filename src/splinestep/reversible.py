@@ -25,6 +25,8 @@ References
    size control", SIAM J. Sci. Comput. 26 (2005) 1838-1851.
 """
 
+import warnings
+
 import numpy as np
 
 from . import _base, controllers, driver
@@ -45,7 +47,8 @@ def solve_reversible(fun, t_span, y0, yp0, eps, control, *, rho0=1.0, args=(), t
     fun, t_span, y0, yp0, args, t_eval, events
         As for :func:`splinestep.solve` (forward or backward in time).
     eps : float
-        The step at the start (rho_0 = 1); the steps scale with it.
+        The scale of the steps: each is eps / rho, the first
+        eps / (rho0 + eps G(y0) / 2).
     control : callable
         ``control(t, y, yp, *args) -> G``, minus the time derivative of the
         logarithm of the step-size function s along the solution (see the module
@@ -99,6 +102,9 @@ def solve_reversible(fun, t_span, y0, yp0, eps, control, *, rho0=1.0, args=(), t
         raise ValueError(f"control must return a number at t0; it raised "
                          f"{type(error).__name__}: {error}") from error
     mode = FIXED_POINT if iteration == "fixed-point" else NEWTON
+    if jac is not None and mode == FIXED_POINT:
+        warnings.warn("jac is not used by the fixed-point iteration; pass "
+                      "iteration=\"newton\" to use it", UserWarning, stacklevel=2)
     step = driver.method(driver.SPLINE, mode, max_iter, True, tol, True)
     ctrl = controllers.reversible(tf, eps, rho0, max_steps)
     return run_spline(fun, jac if mode == NEWTON else None, args, step, ctrl, (t0, y0, yp0),

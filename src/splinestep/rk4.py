@@ -5,9 +5,10 @@ import numpy as np
 
 from . import _base, controllers, driver
 from .driver import RK4
+from .events import Tracker, check_events
 
 
-def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), max_steps=10**8):
+def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), events=None, max_steps=10**8):
     """Classical fourth-order Runge-Kutta for y'' = F(t, y, y').
 
     The report's comparison method: RK4 on the first-order system
@@ -30,7 +31,10 @@ def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), max_steps=10**8):
         Sorted times at which to report the solution (cubic Hermite
         interpolation between steps); the steps are then not stored.
     args : tuple, optional
-        Extra arguments passed to ``fun``.
+        Extra arguments passed to ``fun`` (and the events).
+    events : callable or list of callables, optional
+        As for :func:`splinestep.solve`, located on the cubic Hermite
+        interpolant of each step.
     max_steps : int, optional
         A grid of more steps is refused before it starts (ValueError).
 
@@ -45,10 +49,10 @@ def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), max_steps=10**8):
     .. [1] E. Hairer, S. P. Norsett, G. Wanner, "Solving Ordinary
        Differential Equations I", 2nd ed., Springer (1993), Sec. II.1.
     """
-    return run_baseline(RK4, fun, t_span, y0, yp0, h, t_eval, args, max_steps)
+    return run_baseline(RK4, fun, t_span, y0, yp0, h, t_eval, args, events, max_steps)
 
 
-def run_baseline(kind, fun, t_span, y0, yp0, h, t_eval, args, max_steps):
+def run_baseline(kind, fun, t_span, y0, yp0, h, t_eval, args, events, max_steps):
     """The front door of :func:`splinestep.rk4` and :func:`splinestep.verlet`
     (``kind`` RK4 or VERLET of :mod:`splinestep.driver`): validate, run the
     driver with the constant controller, return the :class:`OdeResult`."""
@@ -61,9 +65,16 @@ def run_baseline(kind, fun, t_span, y0, yp0, h, t_eval, args, max_steps):
         raise ValueError("fun must be callable")
     path = _base.choose_path(fun, None, args)
     ypp0 = _base.check_fun(fun, t0, y0, yp0, args)
+    events = check_events(events, args)
+    tracker = Tracker(events) if events else None
+    if tracker is not None:
+        tracker.start(t0, y0, yp0)
     ctrl = controllers.constant(tf, h, n, np.empty(0), max_steps)
     out, reason = driver.run(path, fun, None, args, driver.method(kind), ctrl,
-                             (t_eval, t_eval is None, None), (t0, y0, yp0, ypp0))
+                             (t_eval, t_eval is None, tracker), (t0, y0, yp0, ypp0))
     name = "rk4" if kind == driver.RK4 else "verlet"
-    return driver.result_of(out, t_eval, 0, ctrl[0], reason, path=path,
-                            order=4 if kind == driver.RK4 else 2, method=name)
+    result = driver.result_of(out, t_eval, 0, ctrl[0], reason, path=path,
+                              order=4 if kind == driver.RK4 else 2, method=name)
+    if tracker is not None:
+        tracker.attach(result)
+    return result

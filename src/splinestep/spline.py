@@ -88,8 +88,8 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         (instead of h).
     t_eval : array_like, optional
         Times in t_span, sorted in the direction of integration, at which to
-        report the solution, evaluated from the spline; the knots are then
-        not stored.
+        report the solution, evaluated from each step's interpolant as the
+        run goes; the knots are then not stored (unless ``dense_output``).
     args : tuple, optional
         Extra arguments passed to ``fun``, ``jac`` and the events.  Numbers
         are passed as floats and numeric arrays as float arrays.

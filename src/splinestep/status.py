@@ -54,10 +54,18 @@ def short(t):
     return f"{t:.10g}"
 
 
+# The codes a plain fun's or jac's refused value produces: only these take
+# the front door's more precise reason.
+REFUSED = (BAD_SHAPE, SINGULAR)
+
+
 def failure(code, max_iter, m, reason=None):
     """What a failed step's ``code`` means (``reason``, when the front door
-    knows more precisely what ``fun`` returned, replaces the generic text)."""
-    return reason if reason is not None else FAILURES[code].format(max_iter=max_iter, m=m)
+    knows more precisely what ``fun`` or ``jac`` returned, replaces the
+    generic text of the codes in :data:`REFUSED`)."""
+    if reason is not None and code in REFUSED:
+        return reason
+    return FAILURES[code].format(max_iter=max_iter, m=m)
 
 
 def message(run, max_iter, m, max_steps, reason=None):
@@ -76,8 +84,9 @@ def message(run, max_iter, m, max_steps, reason=None):
         return (f"The run stopped at t = {short(run.t_last)} after max_steps = {max_steps} "
                 f"step attempts. {accepted}")
     if code == RHO_NOT_POSITIVE:
-        return (f"The control variable rho is not positive at t = {short(run.t_last)}: eps "
-                f"is too large for this control. {accepted}")
+        return (f"The control variable rho is not positive (or not finite) at "
+                f"t = {short(run.t_last)}: eps is too large for this control, or the control "
+                f"returned a value that is not finite. {accepted}")
     if code == STEP_TOO_SMALL:
         last = run.last_status
         why = ("its error estimate was too large" if last == OK else
@@ -86,4 +95,4 @@ def message(run, max_iter, m, max_steps, reason=None):
                 f"last step tried was rejected because {why}. {accepted}")
     return (f"Step {run.fail_step} (from t = {short(run.t_last)} to t = {short(run.t_fail)}) "
             f"failed: {failure(code, max_iter, m, reason)}. {accepted}"
-            f"{HINTS.get(code, '') if reason is None else ''}")
+            f"{HINTS.get(code, '') if reason is None or code not in REFUSED else ''}")

@@ -6,7 +6,7 @@ from .driver import VERLET
 from .rk4 import run_baseline
 
 
-def verlet(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), max_steps=10**8):
+def verlet(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), events=None, max_steps=10**8):
     """Velocity Verlet for y'' = F(t, y, y').
 
     One evaluation of F per step::
@@ -23,23 +23,8 @@ def verlet(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), max_steps=10**8):
 
     Parameters
     ----------
-    fun : callable
-        ``fun(t, y, yp, *args) -> y''``; the loop runs compiled and calls a
-        ``numba.njit`` function directly, a plain one through the
-        interpreter.
-    t_span : (float, float)
-        Interval of integration (t0, tf); tf < t0 integrates backwards.
-    y0, yp0 : float or array_like, shape (m,)
-        Initial value and first derivative.
-    h : float
-        Step.  The last step is shortened to end exactly at tf.
-    t_eval : array_like, optional
-        Sorted times at which to report the solution (cubic Hermite
-        interpolation between steps); the steps are then not stored.
-    args : tuple, optional
-        Extra arguments passed to ``fun``.
-    max_steps : int, optional
-        A grid of more steps is refused before it starts (ValueError).
+    fun, t_span, y0, yp0, h, t_eval, args, events, max_steps
+        As for :func:`splinestep.rk4` (one evaluation of F per step).
 
     Returns
     -------
@@ -54,4 +39,4 @@ def verlet(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), max_steps=10**8):
        illustrated by the Stormer-Verlet method", Acta Numerica 12 (2003)
        399-450.
     """
-    return run_baseline(VERLET, fun, t_span, y0, yp0, h, t_eval, args, max_steps)
+    return run_baseline(VERLET, fun, t_span, y0, yp0, h, t_eval, args, events, max_steps)
