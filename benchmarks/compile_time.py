@@ -20,21 +20,23 @@ import sys, time
 import numpy as np
 from numba import njit
 import splinestep
-extra = int(sys.argv[1])          # extra arguments make a type no run has compiled
-
-@njit
-def rhs(t, y, yp, a, b, *more):
+extra = int(sys.argv[1])   # a number of extra arguments no run has compiled for
+names = ", ".join(f"c{k}" for k in range(extra))
+source = f"""
+def rhs(t, y, yp, a, b, {names}):
     return (-a * y[0] - b * yp[0], -a * y[1])
 
-@njit
-def jac(t, y, yp, a, b, *more):
+def jac(t, y, yp, a, b, {names}):
     fy = np.zeros((2, 2))
     fyp = np.zeros((2, 2))
     fy[0, 0] = -a
     fy[1, 1] = -a
     fyp[0, 0] = -b
     return fy, fyp
-
+"""
+space = {"np": np}
+exec(source, space)
+rhs, jac = njit(space["rhs"]), njit(space["jac"])
 y0, yp0, args = [1.0, 0.5], [0.0, 1.0], (1.0, 0.1) + (0.0,) * extra
 paths = {
     "uniform sweep": lambda: splinestep.solve(rhs, (0, 1), y0, yp0, 0.1, args=args),

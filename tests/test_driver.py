@@ -230,3 +230,9 @@ def test_a_control_that_is_not_finite_is_named():
     res = splinestep.solve_reversible(oscillator, (0, 1), 1.0, 0.0, 0.1,
                                       lambda t, y, yp: np.nan if t > 0.3 else 0.0)
     assert res.status == -1 and "not finite" in res.message
+
+
+@pytest.mark.parametrize("name", ["tol", "max_iter"])
+def test_solve_bvp_refuses_booleans(name):
+    with pytest.raises(ValueError, match=name):
+        splinestep.solve_bvp(oscillator, np.linspace(0, 1, 11), 0.0, 1.0, **{name: True})

@@ -273,9 +273,9 @@ def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-10, max
         raise ValueError("fun must be callable")
     if jac is not None and not callable(jac):
         raise ValueError("jac must be callable or None")
-    if not (isinstance(tol, (int, float)) and np.isfinite(tol) and tol > 0):
+    if not (_base.is_real(tol) and np.isfinite(tol) and tol > 0):
         raise ValueError(f"tol must be positive and finite, got {tol!r}")
-    if not (isinstance(max_iter, (int, np.integer)) and max_iter >= 1):
+    if not (_base.is_integer(max_iter) and max_iter >= 1):
         raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
     if y_guess is None:
         y_guess = np.zeros((m, x.size))

@@ -163,7 +163,8 @@ def quintic_coefficients(dt, p0, v0, a0, p1, v1, a1):
 class HermiteSolution(SplineSolution):
     """The quintic Hermite interpolant through the knots' values and first
     two derivatives: the dense output of a composed (order 4 or 6) run,
-    accurate to O(h^6) between knots, so to the run's order.  Called as
+    accurate to O(h^6) between knots in y (its nu-th derivative to
+    O(h^(6 - nu))), so y and y' to the run's order.  Called as
     :class:`SplineSolution` (``nu`` in 0..5); continuous with its first two
     derivatives at the knots.
     """

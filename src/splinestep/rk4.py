@@ -41,8 +41,10 @@ def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), events=None, max_steps
     Returns
     -------
     OdeResult
-        As :func:`splinestep.solve`; ``ypp`` holds F at the reported
-        points (interpolated between steps), ``niter`` is 0.
+        As :func:`splinestep.solve`; ``niter`` is 0.  At the steps ``ypp``
+        is F; between them (``t_eval``) y and y' come from cubic Hermite
+        interpolation (O(h^4)) and ``ypp`` is the derivative of y''s
+        interpolant, one order lower (O(h^3)), not F there.
 
     References
     ----------

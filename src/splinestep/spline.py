@@ -107,8 +107,10 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         composition of spline steps (Yoshida's triple jump, 3 sub-steps; his
         7-stage solution A) [3]_; symmetric like the spline step, so the
         long-time behaviour is kept.  ``t_eval``, events and ``sol`` use the
-        quintic Hermite through the knots' values and first two derivatives
-        (of order 6 between knots).
+        quintic Hermite through the knots' values and first two derivatives:
+        O(h^6) between knots in y, its nu-th derivative O(h^(6 - nu)), so y,
+        y' and the events keep the order of the run (4 or 6) and y'' at
+        order 6 is O(h^4) between knots.
     **options
         The keywords below, as scipy's ``solve_ivp`` passes its solver's
         options; any other is a ValueError naming it.

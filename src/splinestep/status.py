@@ -38,12 +38,12 @@ FAILURES = {
 
 # What to try when a step fails, appended to the message.
 HINTS = {
-    NOT_CONVERGED: " Try a smaller h, or iteration=\"newton\" (the fixed-point sweep "
-                   "converges only while h^2/6 |dF/dy| + h/2 |dF/dyp| < 1).",
+    NOT_CONVERGED: " Try a smaller h, or, after the fixed-point sweep, iteration=\"newton\" "
+                   "(the sweep converges only while h^2/6 |dF/dy| + h/2 |dF/dyp| < 1).",
     SINGULAR: " Try a smaller h: the step equation may have no solution at this h.",
     NON_FINITE: " The solution may blow up here, or the step may be too large.",
-    DIVERGED: " Try a smaller h, or iteration=\"newton\" (the fixed-point sweep "
-              "converges only while h^2/6 |dF/dy| + h/2 |dF/dyp| < 1).",
+    DIVERGED: " Try a smaller h, or, after the fixed-point sweep, iteration=\"newton\" "
+              "(the sweep converges only while h^2/6 |dF/dy| + h/2 |dF/dyp| < 1).",
 }
 
 SUCCESS = "The solver successfully reached the end of the integration interval."
