@@ -236,3 +236,12 @@ def test_a_control_that_is_not_finite_is_named():
 def test_solve_bvp_refuses_booleans(name):
     with pytest.raises(ValueError, match=name):
         splinestep.solve_bvp(oscillator, np.linspace(0, 1, 11), 0.0, 1.0, **{name: True})
+
+
+def test_the_step_size_warning_points_at_the_caller():
+    with pytest.warns(UserWarning) as caught:
+        splinestep.solve(oscillator, (0, 30), 1.0, 0.0, 2.5, iteration="newton")
+    with pytest.warns(UserWarning) as caught_reversible:
+        splinestep.solve_reversible(oscillator, (0, 30), 1.0, 0.0, 2.5, zero_control,
+                                    iteration="newton")
+    assert caught[0].filename == caught_reversible[0].filename == __file__

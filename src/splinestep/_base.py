@@ -350,7 +350,7 @@ def choose_path(fun, jac, args):
         warnings.warn("fun is compiled but jac is plain Python, so the loop calls both "
                       "through the interpreter (the plain path, slower per evaluation); "
                       "compile jac with numba.njit too",
-                      UserWarning, stacklevel=3)
+                      UserWarning, stacklevel=4)
         return "plain"
     check_compiled_args(args)
     return "compiled"

@@ -144,4 +144,4 @@ def report(result, run, fun, jac, args, t0, y0, yp0, y_weight, yp_weight):
         text = ("The step is too large for this solution: " + "; ".join(findings)
                 + ". Try a smaller h.")
         result.message = f"{result.message} {text}"
-        warnings.warn(text, UserWarning, stacklevel=3)
+        warnings.warn(text, UserWarning, stacklevel=4)
