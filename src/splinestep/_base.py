@@ -37,6 +37,17 @@ def is_integer(value):
     return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
 
 
+def check_options(options, defaults, name):
+    """The keyword ``options`` of the front door ``name`` merged into its
+    ``defaults``; an unknown name is a ValueError naming it (scipy's
+    solve_ivp passes its solver options the same way)."""
+    unknown = sorted(set(options) - set(defaults))
+    if unknown:
+        raise ValueError(f"{name}() got unknown options {unknown}; the options are "
+                         f"{sorted(defaults)}")
+    return dict(defaults, **options)
+
+
 def check_max_steps(max_steps):
     """``max_steps`` as an int >= 1, or a ValueError naming it."""
     if not (is_integer(max_steps) and max_steps >= 1):

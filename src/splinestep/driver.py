@@ -48,9 +48,9 @@ from ._base import FD_STEP, as_vector, wrong_length
 from ._explicit import rk4_step, verlet_step
 from .controllers import CONSTANT, ERROR, REVERSIBLE, first_size, judge, propose
 from .result import HermiteSolution, SplineSolution, new_result, quintic_coefficients
-from .status import BAD_SHAPE, EVENT_FAILED, NON_FINITE, OK, TERMINAL_EVENT, message
-from .step import (FIXED_POINT, Iteration, Method, State, composed_step, local_errors, newton_call,
-                   step_state, sweep_step)
+from .status import BAD_SHAPE, EVENT_FAILED, OK, TERMINAL_EVENT, message
+from .step import (FIXED_POINT, Iteration, Method, State, _value_status, composed_step,
+                   local_errors, newton_call, step_state, sweep_step)
 
 # The methods (steps) the driver takes.
 SPLINE, COMPOSED, RK4, VERLET = 0, 1, 2, 3
@@ -254,15 +254,6 @@ def _start(ctrl, saving, t0, y0, yp0, ypp0):
     return vec, T, K, RHO, np.empty((3, saving.t_eval.shape[0], m)), acc
 
 
-@njit(cache=True)
-def _value_status(g):
-    """OK, or NON_FINITE for a vector g with a value that is not finite."""
-    for k in range(g.shape[0]):
-        if not abs(g[k]) < np.inf:
-            return NON_FINITE
-    return OK
-
-
 def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving, start):
     """Step from t0 to ctrl.tf (module docstring); ``start`` is (t0, y0,
     y'0, F there), F evaluated (and counted) by the front door, ``vectors``
@@ -286,7 +277,7 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
     sub = State(np.empty(m), np.empty(m), np.empty(m), y_new, yp_new, z)
     nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
     direction, spline = (1.0 if ctrl.tf > t0 else -1.0), method.kind <= COMPOSED
-    status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0), t0, t0, 0, OK, 0
+    status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
     n_knots, size, rho = 1, first_size(ctrl, atol, t0, y0, yp0), 0.0
     dt_prev, after_reject = 0.0, False
     if status == OK:

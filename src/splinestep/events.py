@@ -122,6 +122,17 @@ class Tracker:
         self.g_old = None
         self.error = None
 
+    @classmethod
+    def of(cls, events, args, t0, y0, yp0):
+        """The tracker of a front door's ``events`` argument (validated by
+        :func:`check_events`), started at (t0, y0, yp0); None without events."""
+        events = check_events(events, args)
+        if not events:
+            return None
+        tracker = cls(events)
+        tracker.start(t0, y0, yp0)
+        return tracker
+
     def start(self, t0, y0, yp0):
         self.g_old = [ev(t0, y0, yp0) for ev in self.events]
 

@@ -72,11 +72,7 @@ def solve_reversible(fun, t_span, y0, yp0, eps, control, *, rho0=1.0, args=(), t
         half steps (at the knots' steps; with ``t_eval`` the knots are not
         stored and ``rho`` is empty unless ``dense_output``).
     """
-    unknown = sorted(set(options) - set(_OPTIONS))
-    if unknown:
-        raise ValueError(f"solve_reversible() got unknown options {unknown}; the options are "
-                         f"{sorted(_OPTIONS)}")
-    opts = dict(_OPTIONS, **options)
+    opts = _base.check_options(options, _OPTIONS, "solve_reversible")
     iteration, tol, max_iter, jac = (opts[k] for k in ("iteration", "tol", "max_iter", "jac"))
     t0, tf = _base.check_span(t_span, backward=True)
     y0, yp0 = _base.check_state(y0, yp0)

@@ -5,7 +5,7 @@ import numpy as np
 
 from . import _base, controllers, driver
 from .driver import RK4
-from .events import Tracker, check_events
+from .events import Tracker
 
 
 def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), events=None, max_steps=10**8):
@@ -67,10 +67,7 @@ def run_baseline(kind, fun, t_span, y0, yp0, h, t_eval, args, events, max_steps)
         raise ValueError("fun must be callable")
     path = _base.choose_path(fun, None, args)
     ypp0 = _base.check_fun(fun, t0, y0, yp0, args)
-    events = check_events(events, args)
-    tracker = Tracker(events) if events else None
-    if tracker is not None:
-        tracker.start(t0, y0, yp0)
+    tracker = Tracker.of(events, args, t0, y0, yp0)
     ctrl = controllers.constant(tf, h, n, np.empty(0), max_steps)
     out, reason = driver.run(path, fun, None, args, driver.method(kind), ctrl,
                              (t_eval, t_eval is None, tracker), (t0, y0, yp0, ypp0))

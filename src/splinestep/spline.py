@@ -29,7 +29,7 @@ import warnings
 import numpy as np
 
 from . import _base, bvp, check, controllers, driver
-from .events import Tracker, check_events
+from .events import Tracker
 from .step import FIXED_POINT, NEWTON, YP_WEIGHT, Y_WEIGHT
 
 ITERATIONS = ("fixed-point", "newton", "global")
@@ -242,11 +242,7 @@ _OPTIONS = dict(iteration="fixed-point", iterations=None, tol=1e-12, max_iter=50
 def _options(options):
     """The keyword options of :func:`solve` with their defaults; an unknown
     name is a ValueError naming it."""
-    unknown = sorted(set(options) - set(_OPTIONS))
-    if unknown:
-        raise ValueError(f"solve() got unknown options {unknown}; the options are "
-                         f"{sorted(_OPTIONS)}")
-    opts = dict(_OPTIONS, **options)
+    opts = _base.check_options(options, _OPTIONS, "solve")
     opts["max_steps"] = _base.check_max_steps(opts["max_steps"])
     return opts
 
@@ -305,14 +301,11 @@ def run_spline(fun, jac, args, step, ctrl, start, output, max_iter, order, contr
     (t0, y0, yp0), ``output`` (t_eval or None, events, dense_output)."""
     t0, y0, yp0 = start
     t_eval, events, dense_output = output
-    events = check_events(events, args)
     path = _base.choose_path(fun, jac, args)
     ypp0 = _base.check_fun(fun, t0, y0, yp0, args)
     if jac is not None:
         _base.check_jac(jac, t0, y0, yp0, args)
-    tracker = Tracker(events) if events else None
-    if tracker is not None:
-        tracker.start(t0, y0, yp0)
+    tracker = Tracker.of(events, args, t0, y0, yp0)
     store = t_eval is None or dense_output
     out, reason = driver.run(path, fun, jac, args, step, ctrl, (t_eval, store, tracker),
                              (t0, y0, yp0, ypp0), control)
