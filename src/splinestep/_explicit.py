@@ -7,11 +7,11 @@ takes the spline step; both are inlined there (numba ``inline="always"``):
 as calls, they cost each method 1.3 to 1.5 times the time per evaluation
 (``make bench``)."""
 
-import numpy as np
 from numba import njit
 
-from ._base import as_vector, wrong_length
-from .status import BAD_SHAPE, NON_FINITE, OK
+from ._base import as_vector
+from .status import BAD_SHAPE, OK
+from .step import _value_status
 
 # Butcher tableau of the classical method: stage j (j = 2, 3, 4) is taken
 # at t + NODES[j-2] h from the state advanced by the previous stage; the
@@ -23,14 +23,12 @@ STAGE_WEIGHTS = (1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
 
 @njit(cache=True, inline="always")
 def _checked(g, a, m):
-    """Copy the value ``g`` of fun into ``a``; the status it implies."""
-    if wrong_length(g, m):
-        return BAD_SHAPE
-    status = OK
-    for k in range(m):
-        if not abs(g[k]) < np.inf:
-            status = NON_FINITE
-        a[k] = g[k]
+    """Copy the value ``g`` of fun into ``a``; the status it implies
+    (:func:`splinestep.step._value_status`)."""
+    status = _value_status(g, m)
+    if status != BAD_SHAPE:
+        for k in range(m):
+            a[k] = g[k]
     return status
 
 
