@@ -393,8 +393,12 @@ outputs.say(
 # step as three spline steps of sizes $\gamma_1 h, \gamma_2 h, \gamma_1 h$
 # with $\gamma_1 = 1/(2 - 2^{1/3})$, $\gamma_2 = -2^{1/3}/(2 - 2^{1/3})$
 # (Yoshida's triple jump; the middle step goes backwards), `order=6` as
-# seven (Yoshida's solution A); between knots the quintic through the
-# knots' values and first two derivatives keeps the order.  The fitted
+# seven (Yoshida's solution A).  Those sub-steps leave the step (to
+# $t + 1.35h$ and $t - 0.35h$), so the first and last steps, which would
+# evaluate $F$ outside the span, take Suzuki's compositions of the same order
+# instead (5 and 25 sub-steps, all inside the step).  Between knots the
+# quintic through the knots' values and first two derivatives keeps the
+# order.  The fitted
 # slopes of the largest error at times between the knots against the exact
 # solutions:
 

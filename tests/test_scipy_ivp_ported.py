@@ -243,8 +243,8 @@ def test_the_solver_imports_no_analysis_and_no_sympy():
     assert out == "False"
 
 
-# scipy's rational problem, u = t / (t + 10) with y1 = t u', is the
-# second-order equation y'' = -y' (1 - y) / 5 with the same solution,
+# scipy's rational problem, u = t / (t + 10) with y1 = t u', has the same
+# solution as the second-order equation y'' = -y' (1 - y) / 5,
 # started from u(5) = 1/3, u'(5) = 2/45; scipy's error norm (the RMS over
 # components of the error over atol + rtol |exact|) covers y and y'.
 RTOL, ATOL = 1e-3, 1e-6
@@ -280,10 +280,11 @@ def solve_rational(path, t_span, **extra):
     return splinestep.solve(rational, t_span, 1.0 / 3.0, 2.0 / 45.0, **kwargs, **extra)
 
 
-# Adaptive knots bound each step's local error by rtol, not the run's global
-# error (README, differences from solve_ivp): backwards over [5, 1] the error
-# ends at 5.55 in scipy's norm, over the 5 the scipy test allows.
-LOCAL_TOLERANCE = pytest.mark.xfail(strict=True, reason="rtol bounds the local error only")
+# Backwards over [5, 1] the adaptive run's error ends at 5.55 in scipy's norm,
+# over the 5 the scipy test allows and where scipy's RK45 ends at 0.91: the
+# jump estimate is low on those backward steps (README, differences).
+LOCAL_TOLERANCE = pytest.mark.xfail(strict=True, raises=AssertionError,
+                                    reason="the error estimate is low backwards")
 
 
 @pytest.mark.parametrize("t_span", [(5.0, 9.0), (5.0, 1.0)])
@@ -391,6 +392,7 @@ def test_duplicate_timestamps(path):
     res = splinestep.solve(cannon, (0.0, 1.0), 0.0, v0, events=hit_ground, dense_output=True,
                            **kwargs)
     assert res.success and res.status == 1
+    assert np.all(np.diff(res.t) > 0)    # no knot twice (the zero falls on a knot)
     np.testing.assert_allclose(res.t_events, [[2 * v0 / g]], rtol=1e-9)
     np.testing.assert_allclose(res.y_events[0], [[0.0]], atol=1e-12)
     np.testing.assert_allclose(res.yp_events[0], [[-v0]], rtol=1e-9)
@@ -460,17 +462,17 @@ def only_inside(lo, hi):
     return fun
 
 
-ORDER_2_PATHS = [p for p in PATHS if p != "order 4"]
+BOUND_PATHS = dict(PATHS, **{"order 6": dict(h=0.05, order=6)})
 
 
-@pytest.mark.parametrize("path", ORDER_2_PATHS)
+@pytest.mark.parametrize("path", BOUND_PATHS)
 def test_tbound_respected_small_interval(path):
     """scipy test_tbound_respected_small_interval (gh-17341): over
-    [0, 1e-4] fun is never called beyond 1e-4, by the run or by its checks.
-    The order-4 and order-6 compositions take sub-steps outside the span
-    (a difference from solve_ivp, README)."""
+    [0, 1e-4] fun is never called beyond 1e-4, by the run or by its checks;
+    at orders 4 and 6 the first and last steps take compositions whose
+    sub-steps stay inside the step."""
     small = 1e-4
-    kwargs = dict(PATHS[path])
+    kwargs = dict(BOUND_PATHS[path])
     if "knots" in kwargs:
         kwargs["knots"] = np.linspace(0.0, small, 11)
     if "h" in kwargs:
@@ -479,7 +481,7 @@ def test_tbound_respected_small_interval(path):
     assert res.success, res.message
 
 
-@pytest.mark.parametrize("path", ORDER_2_PATHS)
+@pytest.mark.parametrize("path", BOUND_PATHS)
 def test_tbound_respected_oscillator(path):
     """scipy test_tbound_respected_oscillator (gh-9198): a constant
     right-hand side that refuses t > 205 over (100, 200), with dense
@@ -490,7 +492,7 @@ def test_tbound_respected_oscillator(path):
         return np.array([1.73307544e-02, 6.49376470e-06, 0.0, 0.0])
     y0 = np.array([134.08298555, 138.82348612, 100.0, 0.0])
     for t_span in ((100.0, 200.0), (200.0, 100.0)):
-        kwargs = dict(PATHS[path])
+        kwargs = dict(BOUND_PATHS[path])
         if "knots" in kwargs:
             kwargs["knots"] = np.linspace(*t_span, 101)
         if "h" in kwargs:
@@ -499,3 +501,32 @@ def test_tbound_respected_oscillator(path):
             kwargs["max_step"] = 100.0
         res = splinestep.solve(constant, t_span, y0, np.zeros(4), dense_output=True, **kwargs)
         assert res.success, res.message
+
+
+@pytest.mark.parametrize("order", [4, 6])
+@pytest.mark.parametrize("t_span, h", [((0.0, 1.0), 0.3), ((0.0, 1.0), 1.0), ((1.0, 0.0), 0.3),
+                                       ((0.0, 10.0), 0.1)])
+def test_compositions_call_fun_inside_the_span_only(order, t_span, h):
+    """The triple jump's sub-steps reach t + 1.35 h and t - 0.35 h: with
+    h = 0.3 over (0, 1), 22 of 103 calls were outside.  Every call is now
+    inside, forwards and backwards."""
+    lo, hi = min(t_span), max(t_span)
+    times = []
+
+    def fun(t, y, yp):
+        times.append(t)
+        return -y
+    res = splinestep.solve(fun, t_span, 1.0, 0.0, h, order=order)
+    assert res.success and times
+    assert lo <= min(times) and max(times) <= hi
+
+
+@pytest.mark.parametrize("order", [4, 6])
+def test_end_steps_keep_the_order(order):
+    """Runs of 8, 16 and 32 steps over (0, 1) on y'' = -y, whose first and
+    last steps are taken by the inside composition (a quarter to a
+    sixteenth of the run): the error at t = 1 falls at the order."""
+    errors = [abs(splinestep.solve(oscillator, (0.0, 1.0), 1.0, 0.0, 1.0 / n, order=order).y[0, -1]
+                  - np.cos(1.0)) for n in (8, 16, 32)]
+    slopes = np.log2(np.array(errors[:-1]) / errors[1:])
+    assert np.all(np.abs(slopes - order) < 0.3), slopes

@@ -15,7 +15,8 @@ every path alike:
 - stores the knots for dense output (when they are wanted);
 - keeps the largest estimated local error of the spline steps (the jump
   of the third derivative, :mod:`splinestep.controllers`);
-- counts every evaluation of fun and jac and honours ``max_steps``;
+- counts every evaluation of fun and jac and honours ``max_steps`` (a
+  fixed grid of more steps is refused by the front door);
 - checks each value fun returns (the steps return a status).
 
 The steps share one protocol: from (y, y', y'') at t to t_new they leave
@@ -31,11 +32,13 @@ Settings travel as named tuples (``step.Method`` with its ``Iteration``,
 ``controllers.Control`` with its ``Vectors``, :class:`Saving`), and the loop
 returns one (:class:`Run`), so the compiled code has ten named arguments
 instead of twenty positional ones; numba compiles and caches the loop once
-per method kind and controller kind (:func:`driver_for`: one source, the
-two kinds compile-time constants, so each loop holds only its own branches)
+per method kind, mode and controller kind (:func:`driver_for`: one source,
+the three kinds compile-time constants, so each loop holds only its own
+branches)
 and per type of ``fun``, ``args``, ``jac`` and ``control``
-(:mod:`splinestep._compile`).  The records the loop reads at every step
-hold numbers only, and its vectors live in one buffer: an array passed
+(:mod:`splinestep._compile`).  The records the sweep's loop reads at every
+step hold numbers only (a composition's weights travel in ``Method`` to
+its step), and its vectors live in one buffer: an array passed
 into a helper inside the loop, or an array rebound inside it (the knot
 arrays grow outside the stepping loop), costs reference counting at every
 step.
@@ -267,7 +270,7 @@ def driver_for(kind, control, mode=FIXED_POINT):
     and a controller of kind ``control`` (:mod:`splinestep.controllers`):
     one source, specialised by the three constants, so that numba compiles
     (and caches) only the branches of that method and controller, and the
-    fixed-step sweep runs without the tests of the others in its loop."""
+    fixed-step sweep runs without the other methods' tests in its loop."""
     key = (int(kind), int(control), int(mode) if kind == SPLINE else FIXED_POINT)
     if key not in _DRIVERS:
         _DRIVERS[key] = _specialised(*key)
@@ -293,8 +296,9 @@ def _specialised(KIND, CONTROL, MODE):
         m, it, kind, t_eval = y0.shape[0], method.iteration, dense_kind(method.kind), saving.t_eval
         vec, T, K, RHO, E, acc = _start(ctrl, saving, t0, y0, yp0, ypp0)
         y, yp, ypp, y_new, yp_new, z = vec[_Y], vec[_YP], vec[_YPP], vec[_Y1], vec[_YP1], vec[_Z]
-        kept, stage, ev_out = step_state(m, np.max(method.slots) + 1), np.empty((4, m)), \
-            np.empty((3, m))
+        kept = step_state(m, max(np.max(method.slots), np.max(method.inside_slots)) + 1)
+        stage, ev_out = np.empty((4, m)), np.empty((3, m))
+        span = (min(t0, ctrl.tf), max(t0, ctrl.tf))
         work, velocity, jerk1, jerk0 = kept.work, stage[0], vec[_JERK1], vec[_JERK]
         # The records' numbers as plain locals: a field read from a record that
         # holds arrays is not free inside the loop.
@@ -333,7 +337,7 @@ def _specialised(KIND, CONTROL, MODE):
                     status, fe, je, ni = newton_call(fun, args, jac, t_new, dt, s, it, kept, 0)
                 elif KIND == COMPOSED:
                     status, fe, je, ni = composed_step(fun, args, jac, t, t_new, s, method, kept,
-                                                       sub)
+                                                       sub, span)
                 elif KIND == RK4:
                     status, fe, je, ni = rk4_step(fun, args, t, t_new, dt, y, yp, ypp, y_new,
                                                   yp_new, z, stage)
@@ -368,6 +372,12 @@ def _specialised(KIND, CONTROL, MODE):
                 if stop == 2:
                     status, fail_step = EVENT_FAILED, attempts
                     break
+                if stop == 1 and t_end == t:
+                    # A terminal zero at the step's start (where the last
+                    # step ended on it to rounding): the run ends at its
+                    # last knot, not at a second knot of the same time.
+                    status = TERMINAL_EVENT
+                    break
                 _advance(vec, ev_out, stop == 1)
                 t, dt_prev, accepted = t_end, dt, accepted + 1
                 if store:
@@ -385,11 +395,12 @@ def _specialised(KIND, CONTROL, MODE):
 
 
 def method(kind, mode=FIXED_POINT, n_iter=1, until_converged=True, tol=1e-12, reuse=True,
-           weights=(1.0,), slots=(0,)):
+           weights=(1.0,), slots=(0,), inside=(1.0,), inside_slots=(0,)):
     """The :class:`splinestep.step.Method` record of a step."""
     return Method(int(kind), Iteration(int(mode), int(n_iter), bool(until_converged), float(tol),
                                        bool(reuse)),
-                  np.asarray(weights, dtype=float), np.asarray(slots, dtype=np.int64))
+                  np.asarray(weights, dtype=float), np.asarray(slots, dtype=np.int64),
+                  np.asarray(inside, dtype=float), np.asarray(inside_slots, dtype=np.int64))
 
 
 def run(path, fun, jac, args, method, controller, output, start, control=None):

@@ -36,7 +36,12 @@ ITERATIONS = ("fixed-point", "newton", "global")
 
 # Symmetric compositions raising the order of a symmetric one-step method
 # (weights of the sub-steps, each a multiple of the step): Yoshida's triple
-# jump for order 4 and his 7-stage solution A for order 6.
+# jump for order 4 and his 7-stage solution A for order 6.  Their sub-steps
+# leave the step (the triple jump reaches t + 1.35 h and t - 0.35 h), so
+# the first and last steps of a run take Suzuki's fractal compositions
+# instead (S4(h) = S2(p h)^2 S2((1 - 4p) h) S2(p h)^2, p = 1/(4 - 4^(1/3)),
+# and S6 the same of S4 with p = 1/(4 - 4^(1/5))): 5 and 25 sub-steps, each
+# ending within [t, t + h] (Suzuki 1990; Hairer, Lubich and Wanner, Sec. II.4).
 _CBRT2 = 2.0 ** (1.0 / 3.0)
 _YOSHIDA6 = (0.784513610477560, 0.235573213359357, -1.17767998417887)
 COMPOSITIONS = {
@@ -46,13 +51,36 @@ COMPOSITIONS = {
 }
 
 
+def _suzuki(inner, p):
+    """Suzuki's fractal step: ``inner`` at p, p, 1 - 4p, p, p of the step."""
+    return tuple(w * v for w in (p, p, 1.0 - 4.0 * p, p, p) for v in inner)
+
+
+_SUZUKI4 = _suzuki((1.0,), 1.0 / (4.0 - 4.0 ** (1.0 / 3.0)))
+INSIDE_COMPOSITIONS = {
+    2: (1.0,),
+    4: _SUZUKI4,
+    6: _suzuki(_SUZUKI4, 1.0 / (4.0 - 4.0 ** (1.0 / 5.0))),
+}
+
+
+def _slots(weights, distinct):
+    """For each weight the index of its size among ``distinct`` (extended
+    as new sizes appear): sub-steps of one size share a kept Newton matrix."""
+    for w in weights:
+        if w not in distinct:
+            distinct.append(w)
+    return np.array([distinct.index(w) for w in weights], dtype=np.int64)
+
+
 def composition(order):
-    """(weights, slots) of the composition of ``order``: the sub-steps'
-    sizes as fractions of the step, and for each the index of its distinct
-    size (sub-steps of one size share a kept Newton matrix)."""
-    weights = np.array(COMPOSITIONS[order])
-    distinct = list(dict.fromkeys(weights.tolist()))
-    return weights, np.array([distinct.index(w) for w in weights.tolist()], dtype=np.int64)
+    """(weights, slots, inside, inside_slots) of the composition of
+    ``order``: the sub-steps' sizes as fractions of the step, each with the
+    index of its distinct size, and the same for the composition whose
+    sub-steps stay inside the step (:data:`INSIDE_COMPOSITIONS`)."""
+    weights, inside, distinct = COMPOSITIONS[order], INSIDE_COMPOSITIONS[order], []
+    return (np.array(weights), _slots(weights, distinct), np.array(inside),
+            _slots(inside, distinct))
 
 
 def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), events=None,
@@ -228,8 +256,8 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
                              f"{abs(tf - t0):g} of t_span")
     else:
         ctrl = controllers.constant(tf, h, n, knots, opts["max_steps"])
-    weights, slots = composition(order)
-    step = step._replace(weights=weights, slots=slots.astype(np.int64))
+    weights, slots, inside, inside_slots = composition(order)
+    step = step._replace(weights=weights, slots=slots, inside=inside, inside_slots=inside_slots)
     return run_spline(fun, jac, args, step, ctrl, (t0, y0, yp0), (t_eval, events, dense_output),
                       opts["max_iter"], order)
 

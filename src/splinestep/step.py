@@ -135,10 +135,12 @@ or NEWTON; ``n_iter`` iterations at most, exactly when not
 norm); ``reuse`` of Newton's matrix.  Numbers only: a record holding
 arrays costs reference counting wherever it is passed in the hot loop."""
 
-Method = namedtuple("Method", "kind iteration weights slots")
+Method = namedtuple("Method", "kind iteration weights slots inside inside_slots")
 Method.__doc__ = """The step: the method ``kind`` (see :mod:`splinestep.driver`),
-its :class:`Iteration`, and a composition's sub-step ``weights`` with the
-``slots`` of their kept Newton matrices."""
+its :class:`Iteration`, a composition's sub-step ``weights`` with the
+``slots`` of their kept Newton matrices, and the weights (and slots) of a
+composition of the same order whose sub-steps stay between the step's ends
+(``inside``), taken where a sub-step of ``weights`` would leave the span."""
 
 
 @njit(cache=True)
@@ -399,11 +401,27 @@ def _copy_state(y, yp, ypp, sub):
         sub_ypp[k] = ypp[k]
 
 
+@njit(cache=True, inline="always")
+def _inside(t, dt, weights, span):
+    """Whether every sub-step end t + (w_0 + ... + w_j) dt lies in span."""
+    c = 0.0
+    for j in range(weights.shape[0]):
+        c += weights[j]
+        if not span[0] <= t + c * dt <= span[1]:
+            return False
+    return True
+
+
 @njit(cache=True, error_model="numpy")
-def composed_step(fun, args, jac, t, t_new, s, method, kept, sub):
+def composed_step(fun, args, jac, t, t_new, s, method, kept, sub, span):
     """The step from t to t_new = t + dt as spline steps of sizes
     method.weights[j] dt in turn (weights summing to 1; a single weight 1
-    is one spline step, the last sub-step ends at t_new exactly).
+    is one spline step, the last sub-step ends at t_new exactly).  Where a
+    sub-step of those weights would reach outside ``span`` = (lo, hi) (the
+    first and last steps of a run, whose negative and overshooting
+    sub-steps pass t0 and tf), the step takes ``method.inside`` instead, a
+    composition of the same order whose sub-steps stay within [t, t_new],
+    so that F is never evaluated outside the span.
     Sub-step j keeps its Newton matrix in slot ``method.slots[j]``; ``sub``
     is a :class:`State` whose start vectors hold each sub-step's start and
     whose end vectors are ``s``'s (the step's start is copied there too:
@@ -414,9 +432,11 @@ def composed_step(fun, args, jac, t, t_new, s, method, kept, sub):
     The sub-steps' loop is written once per iteration mode: a loop whose
     body chooses between the two takes about 1.3 times as long per
     evaluation (``make bench``)."""
-    weights, it = method.weights, method.iteration
-    n_sub = weights.shape[0]
+    weights, slots, it = method.weights, method.slots, method.iteration
     dt = t_new - t
+    if not _inside(t, dt, weights, span):
+        weights, slots = method.inside, method.inside_slots
+    n_sub = weights.shape[0]
     nfev = 0
     njev = 0
     niter = 0
@@ -441,7 +461,7 @@ def composed_step(fun, args, jac, t, t_new, s, method, kept, sub):
             if j > 0:
                 _copy_state(s.y_new, s.yp_new, s.z, sub)
             status, fe, je, n_it = newton_step(fun, args, jac, t_next, t_next - t_sub, sub, it,
-                                               kept, method.slots[j])
+                                               kept, slots[j])
             nfev += fe
             njev += je
             niter += n_it
