@@ -394,8 +394,8 @@ outputs.say(
 # with $\gamma_1 = 1/(2 - 2^{1/3})$, $\gamma_2 = -2^{1/3}/(2 - 2^{1/3})$
 # (Yoshida's triple jump; the middle step goes backwards), `order=6` as
 # seven (Yoshida's solution A).  Those sub-steps leave the step (to
-# $t + 1.35h$ and $t - 0.35h$), so the first and last steps, which would
-# evaluate $F$ outside the span, take Suzuki's compositions of the same order
+# $t + 1.35h$ and $t - 0.35h$), so a step that would evaluate $F$ outside
+# the span (the first and last of a uniform grid) takes Suzuki's compositions of the same order
 # instead (5 and 25 sub-steps, all inside the step).  Between knots the
 # quintic through the knots' values and first two derivatives keeps the
 # order.  The fitted
@@ -465,7 +465,7 @@ outputs.say(
     f"asymptotic range: halving the step from 0.02 divides the error by only "
     f"{order6_floor[(0.02, 1e-12)] / at_report_step[6]:.0f}, and solving each step equation "
     f"a thousand times more tightly does not lower it either.  It measures a floor of the "
-    f"run ({7 * round(50 / 0.01):,} sub-steps), not the order.")
+    f"run ({7 * (round(50 / 0.01) - 2) + 2 * 25:,} sub-steps), not the order.")
 
 # %% [markdown]
 # ### Long time, and the cost against the other routes

@@ -38,7 +38,8 @@ ITERATIONS = ("fixed-point", "newton", "global")
 # (weights of the sub-steps, each a multiple of the step): Yoshida's triple
 # jump for order 4 and his 7-stage solution A for order 6.  Their sub-steps
 # leave the step (the triple jump reaches t + 1.35 h and t - 0.35 h), so
-# the first and last steps of a run take Suzuki's fractal compositions
+# a step that would reach outside the span (the first and last of a uniform
+# grid) takes Suzuki's fractal compositions
 # instead (S4(h) = S2(p h)^2 S2((1 - 4p) h) S2(p h)^2, p = 1/(4 - 4^(1/3)),
 # and S6 the same of S4 with p = 1/(4 - 4^(1/5))): 5 and 25 sub-steps, each
 # ending within [t, t + h] (Suzuki 1990; Hairer, Lubich and Wanner, Sec. II.4).
@@ -134,7 +135,10 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         2: the report's method.  4 and 6: each step of size h is a symmetric
         composition of spline steps (Yoshida's triple jump, 3 sub-steps; his
         7-stage solution A) [3]_; symmetric like the spline step, so the
-        long-time behaviour is kept.  ``t_eval``, events and ``sol`` use the
+        long-time behaviour is kept.  A step whose sub-steps would leave
+        t_span (the first and last of a uniform grid) takes Suzuki's
+        composition of the same order instead (5 and 25 sub-steps, all
+        inside the step), so F is never evaluated outside t_span.  ``t_eval``, events and ``sol`` use the
         quintic Hermite through the knots' values and first two derivatives:
         O(h^6) between knots in y, its nu-th derivative O(h^(6 - nu)), so y,
         y' and the events keep the order of the run (4 or 6) and y'' at

@@ -418,7 +418,7 @@ def composed_step(fun, args, jac, t, t_new, s, method, kept, sub, span):
     method.weights[j] dt in turn (weights summing to 1; a single weight 1
     is one spline step, the last sub-step ends at t_new exactly).  Where a
     sub-step of those weights would reach outside ``span`` = (lo, hi) (the
-    first and last steps of a run, whose negative and overshooting
+    first and last steps of a uniform grid, whose negative and overshooting
     sub-steps pass t0 and tf), the step takes ``method.inside`` instead, a
     composition of the same order whose sub-steps stay within [t, t_new],
     so that F is never evaluated outside the span.
