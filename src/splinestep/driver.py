@@ -34,8 +34,7 @@ returns one (:class:`Run`), so the compiled code has ten named arguments
 instead of twenty positional ones; numba compiles and caches the loop once
 per method kind, mode and controller kind (:func:`driver_for`: one source,
 the three kinds compile-time constants, so each loop holds only its own
-branches)
-and per type of ``fun``, ``args``, ``jac`` and ``control``
+branches) and per type of ``fun``, ``args``, ``jac`` and ``control``
 (:mod:`splinestep._compile`).  The records the sweep's loop reads at every
 step hold numbers only (a composition's weights travel in ``Method`` to
 its step), and its vectors live in one buffer: an array passed
@@ -44,6 +43,7 @@ arrays grow outside the stepping loop), costs reference counting at every
 step.
 """
 
+import functools
 from collections import namedtuple
 
 import numpy as np
@@ -261,9 +261,6 @@ def _start(ctrl, saving, t0, y0, yp0, ypp0):
     return vec, T, K, RHO, np.empty((3, saving.t_eval.shape[0], m)), acc
 
 
-_DRIVERS = {}
-
-
 def driver_for(kind, control, mode=FIXED_POINT):
     """The driver loop for steps of method ``kind`` (SPLINE, COMPOSED, RK4,
     VERLET), solved by ``mode`` (the sweep or Newton: :mod:`splinestep.step`),
@@ -271,12 +268,10 @@ def driver_for(kind, control, mode=FIXED_POINT):
     one source, specialised by the three constants, so that numba compiles
     (and caches) only the branches of that method and controller, and the
     fixed-step sweep runs without the other methods' tests in its loop."""
-    key = (int(kind), int(control), int(mode) if kind == SPLINE else FIXED_POINT)
-    if key not in _DRIVERS:
-        _DRIVERS[key] = _specialised(*key)
-    return _DRIVERS[key]
+    return _specialised(int(kind), int(control), int(mode) if kind == SPLINE else FIXED_POINT)
 
 
+@functools.cache
 def _specialised(KIND, CONTROL, MODE):
     """:func:`_drive` for one method, mode and controller (numba reads the
     closure constants at compile time and prunes the other branches before
