@@ -34,7 +34,8 @@ sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/
 import outputs
 import splinestep
 from splinestep import controllers, problems, step
-from splinestep.analysis import diagnostics
+from matplotlib.lines import Line2D
+from splinestep.analysis import diagnostics, tolerance
 from splinestep.analysis.extrapolation import richardson
 
 plt = outputs.setup()
@@ -50,8 +51,9 @@ plt = outputs.setup()
 # estimates the fourth derivative,
 # $y'''' \approx (j_i - j_{i-1}) / \tfrac12 (h_i + h_{i-1})$.
 # The controller (`splinestep.controllers`) accepts a step when these
-# estimates are within $\mathrm{atol} + \mathrm{rtol}\,|y|$ (scipy's scaled
-# RMS norm) and sizes the next one from them.  Below, along a Kepler orbit
+# estimates, per unit step and times the span (below), are within
+# $\mathrm{atol} + \mathrm{rtol}\,|y|$ (scipy's scaled RMS norm) and sizes the
+# next one from them.  Below, along a Kepler orbit
 # of eccentricity 0.9 ($\mu = 1$, launched at periapsis $r = 1$, one period),
 # the estimate of each step against the error of the same step started from
 # the exact solution.
@@ -59,7 +61,7 @@ plt = outputs.setup()
 # %%
 orbit = problems.eccentric(0.9)
 period = orbit.t_span[1]
-run = orbit.solve(h="adaptive", rtol=1e-8, atol=1e-11)
+run = orbit.solve(h="adaptive", rtol=1e-5, atol=1e-8)
 estimate, _ = controllers.jump_estimates(run.t, run.ypp)
 steps = np.arange(1, run.t.size - 1, 10)   # every tenth step (the estimate needs the one before)
 true_error = []
@@ -72,29 +74,99 @@ estimates = pd.DataFrame(dict(t=run.t[steps], h=np.diff(run.t)[steps],
                               r=np.hypot(*run.y[:, steps]), estimated=estimate[steps - 1],
                               true=np.array(true_error)))
 outputs.save_data(estimates, "adaptive-estimate")
-ratio = estimates.estimated / estimates.true
+# Near periapsis the steps are so small that their local error is below the
+# rounding of one step (about 1e-16 here), and late in the period the
+# reference's own rounding (about 1e-13) sets the "true" error: the ratio is
+# compared where the true local error is above ROUNDING_LEVEL.
+ROUNDING_LEVEL = 1e-12
+resolved = estimates[estimates.true > ROUNDING_LEVEL]
+ratio = resolved.estimated / resolved.true
 print(f"{run.nstep} steps over one period ({run.n_rejected} rejected); step sizes "
       f"{outputs.sci(np.diff(run.t).min())} to {outputs.sci(np.diff(run.t).max())}")
-print(f"estimated / true local error: median {np.median(ratio):.2f}, "
+print(f"estimated / true local error over the {len(resolved)} of {len(estimates)} sampled "
+      f"steps whose error is above {ROUNDING_LEVEL:g}: median {np.median(ratio):.2f}, "
       f"middle 90 % from {np.quantile(ratio, 0.05):.2f} to {np.quantile(ratio, 0.95):.2f}")
+
+# %% [markdown]
+# ### What rtol means: a tolerance on the global error
+# scipy's codes bound the error of each step; a user reads rtol as the
+# accuracy of the answer, and for a low-order method the two are far apart:
+# bounding each step's error by rtol gives a step of order $\mathrm{rtol}^{1/3}$
+# and a final error of order $\mathrm{rtol}^{2/3}$ times the number of steps.
+# The controller therefore bounds the error *per unit step* (Shampine, 1989):
+# each estimate is multiplied by $|t_f - t_0|/|h|$, so that the local errors of
+# a run sum to at most the tolerance, and for a problem that does not amplify
+# errors the final error follows rtol proportionally.  Measured on five
+# problems, over $\mathrm{rtol} = 10^{-3} \dots 10^{-8}$
+# ($\mathrm{atol} = 10^{-3}\,\mathrm{rtol}$), beside scipy's RK45 and DOP853 at
+# the same tolerances (`splinestep.analysis.tolerance`): the final error divided
+# by rtol times the solution's scale (its largest $|y|$ over the span), and
+# the slope of the error against rtol.
+
+# %%
+RTOLS = 10.0 ** -np.arange(3, 9)
+study = tolerance.problems()
+tolerance_table = pd.concat([pd.DataFrame(tolerance.runs(problem, RTOLS)).assign(problem=name)
+                             for name, problem in study.items()], ignore_index=True)
+uniform_table = pd.concat([pd.DataFrame(tolerance.uniform_runs(problem, 1000 * 4 ** np.arange(5)))
+                           .assign(problem=name) for name, problem in study.items()],
+                          ignore_index=True)
+outputs.save_data(tolerance_table, "tolerance-proportionality")
+outputs.save_data(uniform_table, "tolerance-uniform")
+spline_rows = tolerance_table[tolerance_table.method == "spline"]
+summary = spline_rows.groupby("problem", sort=False).apply(
+    lambda g: pd.Series({"largest error / (rtol scale), y": g.error_ratio.max(),
+                         "largest, y'": g.error_ratio_yp.max(),
+                         "slope of error against rtol": tolerance.slope(g.rtol, g.error)}),
+    include_groups=False)
+summary.round(2)
+
+# %%
+fig, (ax, bx) = plt.subplots(1, 2, figsize=(outputs.WIDTH, 4.4))
+markers = dict(zip(study, "osD^v"))
+colors = {"spline": "C0", "RK45": "C1", "DOP853": "C2"}
+for (name, method), g in tolerance_table.groupby(["problem", "method"], sort=False):
+    style = dict(color=colors[method], marker=markers[name], markersize=4, linewidth=1,
+                 linestyle="-" if method == "spline" else ":")
+    ax.loglog(g.rtol, g.error_ratio, **style)
+    bx.loglog(g.nfev, g.error / g.scale_y, **style)
+for name, g in uniform_table.groupby("problem", sort=False):
+    bx.loglog(g.nfev, g.error / g.scale_y, color="0.6", marker=markers[name], markersize=3,
+              linewidth=0.8, linestyle="--")
+ax.axhline(1.0, color="k", linewidth=0.8)
+ax.set_xlabel("rtol")
+ax.set_ylabel("final error / (rtol $\\times$ scale of $y$)")
+ax.set_title("Error against the tolerance")
+bx.set_xlabel("right-hand-side evaluations")
+bx.set_ylabel("final error / scale of $y$")
+bx.set_title("Error against work")
+method_keys = [Line2D([], [], color=c, linestyle="-" if m == "spline" else ":",
+                      label="spline, adaptive" if m == "spline" else f"scipy {m}")
+               for m, c in colors.items()]
+method_keys.append(Line2D([], [], color="0.6", linestyle="--", label="spline, uniform"))
+problem_keys = [Line2D([], [], color="k", marker=mk, linestyle="none", markersize=4, label=n)
+                for n, mk in markers.items()]
+fig.legend(handles=method_keys + problem_keys, loc="outside lower center", ncol=3,
+           fontsize=outputs.MIN_FONT, frameon=False)
+outputs.save_figure(fig, "tolerance-proportionality")
 
 # %% [markdown]
 # ### Work against precision on the eccentric orbit
 # Final position error after one period against right-hand-side
 # evaluations: uniform steps (one sweep per step, the cheapest uniform run,
 # and iterated to convergence) and adaptive knots at tolerances
-# $10^{-6} \dots 10^{-11}$ ($\mathrm{atol} = 10^{-3}\,\mathrm{rtol}$), each
+# $10^{-3} \dots 10^{-8}$ ($\mathrm{atol} = 10^{-3}\,\mathrm{rtol}$), each
 # with one sweep per step and iterated.
 
 # %%
 exact_end, _ = orbit.reference(np.array([period]))
 adaptive_work = []
-for n in 8000 * 4 ** np.arange(4):
+for n in 8000 * 4 ** np.arange(5):
     for label, kwargs in (("uniform, 1 sweep", dict(iterations=1)), ("uniform, iterated", {})):
         res = orbit.solve(h=period / n, **kwargs)
         adaptive_work.append(dict(method=label, setting=period / n, nfev=res.nfev,
                                   final_error=np.max(np.abs(res.y[:, -1] - exact_end[:, 0]))))
-for rtol in 10.0 ** -np.arange(6, 12):
+for rtol in RTOLS:
     for label, kwargs in (("adaptive, 1 sweep", dict(iterations=1)), ("adaptive, iterated", {})):
         res = orbit.solve(h="adaptive", rtol=rtol, atol=rtol * 1e-3, **kwargs)
         adaptive_work.append(dict(method=label, setting=rtol, nfev=res.nfev,
@@ -150,14 +222,12 @@ ax.semilogy(steps, estimates.estimated, "C0-", linewidth=1.2,
             label="estimate from the jump of $y'''$")
 ax.set_xlabel("step number (periapsis at both ends, apoapsis in the middle)")
 ax.set_ylabel("local error of $y$")
-ax.set_title("Adaptive knots on the Kepler orbit $e = 0.9$ (rtol $10^{-8}$)")
+ax.set_title("Adaptive knots on the Kepler orbit $e = 0.9$ (rtol $10^{-5}$)")
 hx = ax.twinx()
 hx.semilogy(steps, estimates.h, "C1--", linewidth=1.2, label="step size $h$ (right axis)")
 hx.set_ylabel("step size $h$")
 handles = ax.get_legend_handles_labels()[0] + hx.get_legend_handles_labels()[0]
 ax.legend(handles=handles, loc="lower center", ncol=2, fontsize=outputs.MIN_FONT)
-ax.set_ylim(1e-20, 1e-8)
-hx.set_ylim(1e-6, 1.0)
 styles = {"uniform, 1 sweep": "s--", "uniform, iterated": "s-", "adaptive, 1 sweep": "o--",
           "adaptive, iterated": "o-"}
 for method, (nfev, error) in curves.items():
@@ -209,7 +279,7 @@ for h in (1e-3, 2e-3, 2.5e-3, 2.9e-3, 3.5e-3, 5e-3, 1e-2):
             nstep=res.nstep, rejected=0, failed=0, t_end=res.t[-1],
             error=np.max(np.abs(res.y[:, -1] - exact_3[:, 0])) if res.success else np.nan,
             flagged="too large" in res.message))
-for rtol in (1e-6, 1e-8):
+for rtol in (1e-4, 1e-6):
     for iteration in ("fixed-point", "newton"):
         res = pleiades.solve(h="adaptive", rtol=rtol, atol=rtol, iteration=iteration)
         pleiades_rows.append(dict(
@@ -224,7 +294,7 @@ for row in pleiades_table.itertuples():
                                                           if row.flagged else "")
                if row.status == 0 else f"fails at t = {row.t_end:.3f}")
     print(f"{row.run:<22} {row.iteration:<12} {outcome}")
-retry = splinestep.solve(lambda t, y, yp: -y, (0.0, 10.0), 1.0, 0.0, rtol=1e-8, atol=1e-10,
+retry = splinestep.solve(lambda t, y, yp: -y, (0.0, 10.0), 1.0, 0.0, rtol=1e-6, atol=1e-8,
                          first_step=3.0)
 print(f"y'' = -y from a first step of 3 (omega h > sqrt 6): {retry.n_failed} failed step "
       f"equation(s) retried smaller, status {retry.status}, error at t = 10 "
@@ -261,7 +331,7 @@ outputs.say(
 # fraction (`splinestep.step`); a step that fails with a kept matrix is
 # redone with full Newton.  On Pleiades, on two runs accurate enough to use
 # (no warning, errors in the table): uniform $h = 10^{-4}$ and adaptive knots
-# at rtol $10^{-8}$; full Newton, the kept matrix and the default fixed-point
+# at rtol $10^{-6}$; full Newton, the kept matrix and the default fixed-point
 # sweep (Pleiades has no analytic Jacobian: every Jacobian column is an
 # evaluation of $F$ and counted as one).
 
@@ -271,7 +341,7 @@ print(f"rebuilt when an update is more than {step.SLOW_RATE} times the one befor
       f"m = {pleiades.y0.size} components")
 newton_rows = []
 for run_label, settings in (("uniform h = 0.0001", dict(h=1e-4)),
-                            ("adaptive rtol = 1e-08", dict(h="adaptive", rtol=1e-8, atol=1e-8))):
+                            ("adaptive rtol = 1e-06", dict(h="adaptive", rtol=1e-6, atol=1e-6))):
     for label, kwargs in (("full Newton", dict(iteration="newton", reuse_jacobian=False)),
                           ("kept matrix", dict(iteration="newton", reuse_jacobian=True)),
                           ("fixed-point sweep", dict(iteration="fixed-point"))):
@@ -333,9 +403,9 @@ EPS = 1e-2
 reversible = splinestep.solve_reversible(long_orbit.fun, long_orbit.t_span, long_orbit.y0,
                                          long_orbit.yp0, EPS, problems.step_size_control,
                                          args=long_orbit.args)
-controlled = long_orbit.solve(h="adaptive", rtol=1e-6, atol=1e-9)
+controlled = long_orbit.solve(h="adaptive", rtol=0.1, atol=1e-4)
 long_rows, by_orbit = [], {}
-for label, res in (("reversible steps", reversible), ("adaptive knots, rtol 1e-6", controlled)):
+for label, res in (("reversible steps", reversible), ("adaptive knots, rtol 0.1", controlled)):
     orbit = np.minimum(np.floor(res.t / period).astype(int), ORBITS - 1) + 1
     by_orbit[label] = signed = pd.Series(energy(res.y, res.yp) - e0).groupby(orbit)
     error = signed.apply(lambda g: g.abs().max())
@@ -352,15 +422,15 @@ print(f"adaptive:   {controlled.nfev / ORBITS:.0f} evaluations per orbit, larges
       f"{outputs.sci(ctl_err[-30:].max(), 2)}")
 # Where the adaptive run's error passes through zero: the orbits across which
 # the largest and the smallest H - H0 of an orbit change sign.
-ctl_signed = by_orbit["adaptive knots, rtol 1e-6"]
+ctl_signed = by_orbit["adaptive knots, rtol 0.1"]
 both_signs = np.flatnonzero((ctl_signed.max() > 0) & (ctl_signed.min() < 0)) + 1
 runs = np.split(both_signs, np.flatnonzero(np.diff(both_signs) > 1) + 1)
 through_zero = " and ".join(f"{r[0]}-{r[-1]}" for r in runs if r.size)
-print(f"adaptive: H - H0 takes both signs within orbits {through_zero}")
+print(f"adaptive: H - H0 takes both signs within orbits {through_zero or 'none'}")
 
 fig, ax = plt.subplots(figsize=(outputs.WIDTH, 4.2))
 ax.loglog(np.arange(1, ORBITS + 1), ctl_err, "C3.-", markersize=3, linewidth=0.8,
-          label=f"adaptive knots, rtol $10^{{-6}}$ ({controlled.nfev / ORBITS:.0f} evaluations "
+          label=f"adaptive knots, rtol 0.1 ({controlled.nfev / ORBITS:.0f} evaluations "
                 "per orbit)")
 ax.loglog(np.arange(1, ORBITS + 1), rev_err, "C0-", linewidth=1.5,
           label=f"reversible steps, $\\varepsilon = {EPS:g}$ "
@@ -377,12 +447,15 @@ outputs.say(
     f"{outputs.sci(rev_err.mean())} for all 300 orbits (it varies by "
     f"{outputs.sci(rev_err.max() - rev_err.min(), 1)}) at {reversible.nfev / ORBITS:.0f} "
     f"evaluations per orbit; the error-controlled knots, at {controlled.nfev / ORBITS:.0f}, "
-    f"wander from {outputs.sci(ctl_err[0], 1)} to {outputs.sci(ctl_err[-30:].max(), 2)}.  On "
+    f"go from {outputs.sci(ctl_err[0], 1)} in the first orbit to "
+    f"{outputs.sci(ctl_err[-30:].max(), 2)} in the last 30.  On "
     f"this orbit, for a long run, the reversible steps are the adaptive method to use; the "
     f"price is choosing the step-size function $s$ by hand, and the measurement is one orbit "
-    f"and one $\\varepsilon$.  The error-controlled run's dips are where its drifting "
-    f"$H - H_0$ passes through zero (it takes both signs within orbits "
-    f"{through_zero}), not orbits of exceptional accuracy.")
+    f"and one $\\varepsilon$.  "
+    + (f"The error-controlled run's dips are where its drifting $H - H_0$ passes through "
+       f"zero (it takes both signs within orbits {through_zero}), not orbits of exceptional "
+       f"accuracy." if through_zero else
+       "The error-controlled run's $H - H_0$ keeps one sign in every orbit: it drifts."))
 
 # %% [markdown]
 # ## 3. Order 4 and 6 by symmetric composition

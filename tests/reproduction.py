@@ -149,6 +149,14 @@ COLUMNS = {
     "adaptive-estimate": dict(t="adaptive", h="adaptive", r="adaptive", estimated="adaptive",
                               true="adaptive"),
     "adaptive-work": dict(setting="exact", nfev="exact", final_error="error"),
+    # rtol against the global error: every row an adaptive run (this
+    # package's or scipy's); the scale of y is the reference solution's.
+    "tolerance-proportionality": dict(method="exact", rtol="exact", nfev="adaptive",
+                                      status="exact", error="adaptive", error_yp="adaptive",
+                                      scale_y="state", error_ratio="adaptive",
+                                      error_ratio_yp="adaptive", problem="exact"),
+    "tolerance-uniform": dict(method="exact", n="exact", nfev="exact", error="error",
+                              scale_y="state", problem="exact"),
     "pleiades-steps": dict(status="exact", nfev="exact", nstep="exact", rejected="exact",
                            failed="exact", t_end="state", error="error", flagged="exact"),
     # The pairs are matched to adaptive runs: every column follows them.

@@ -99,15 +99,15 @@ def test_composition_keeps_the_energy_bounded():
 
 
 @pytest.mark.parametrize("kwargs, rtol, low, high",
-                         [(dict(iterations=1), 1e-10, 12, 14), ({}, 1e-9, 8, 13)])
+                         [(dict(iterations=1), 1e-4, 46.5, 49.5), ({}, 1e-4, 27.5, 35.5)])
 def test_adaptive_gain_interpolated_and_from_a_direct_pair(kwargs, rtol, low, high):
     """Kepler e = 0.9, one period: the evaluations the uniform step needs for
     the adaptive run's final error, over the adaptive run's, two ways: on the
     uniform work curve interpolated log-log between two runs, and from one
     uniform run whose step is scaled by order 2 to that error.  The ratio is
-    stated to two significant digits (about 13 with one sweep, 8.6 to 12
+    stated to two significant digits (47 to 49 with one sweep, 28 to 35
     iterated), so the two ways must agree to 5 %, and lie in the stated range
-    (one sweep: 12.5 to 13.5 rounds to 13)."""
+    (to rounding)."""
     problem = problems.eccentric(0.9)
     period = problem.t_span[1]
     exact, _ = problem.reference(np.array([period]))
@@ -135,7 +135,7 @@ def test_error_estimate_tracks_the_true_local_error():
     """Along the eccentric orbit: the jump estimate of each adaptive step
     against the error of the same step started from the exact solution."""
     problem = problems.eccentric(0.9)
-    res = problem.solve(h="adaptive", rtol=1e-8, atol=1e-11)
+    res = problem.solve(h="adaptive", rtol=1e-5, atol=1e-8)
     t = res.t
     estimates, _ = controllers.jump_estimates(t, res.ypp)   # of steps 1, 2, ...
     ratios = []
@@ -143,15 +143,18 @@ def test_error_estimate_tracks_the_true_local_error():
         start, start_yp = problem.reference(t[i:i + 2])
         one = splinestep.solve(problem.fun, (t[i], t[i + 1]), start[:, 0], start_yp[:, 0],
                                knots=t[i:i + 2], args=problem.args, tol=1e-15)
-        ratios.append(estimates[i - 1] / np.max(np.abs(one.y[:, -1] - start[:, 1])))
+        true = np.max(np.abs(one.y[:, -1] - start[:, 1]))
+        if true > 1e-12:    # below it, rounding (of the step, the reference) decides
+            ratios.append(estimates[i - 1] / true)
+    assert len(ratios) >= 20
     assert 0.5 < np.median(ratios) < 2.0
 
 
 def test_a_step_without_solution_is_rejected_and_retried():
     """y'' = -y from a first step of 3 (omega h = 3 > sqrt 6: the sweep
     diverges): the step fails, is retried smaller, and the run succeeds."""
-    res = splinestep.solve(lambda t, y, yp: -y, (0.0, 10.0), 1.0, 0.0, rtol=1e-8,
-                           atol=1e-10, first_step=3.0)
+    res = splinestep.solve(lambda t, y, yp: -y, (0.0, 10.0), 1.0, 0.0, rtol=1e-6,
+                           atol=1e-8, first_step=3.0)
     assert res.success and res.n_failed >= 1
     assert abs(res.y[0, -1] - np.cos(10.0)) < 1e-5
 
@@ -180,7 +183,7 @@ def test_pleiades_adaptive_succeeds_where_uniform_steps_fail():
         warnings.simplefilter("ignore")
         uniform = problem.solve(h=5e-3)
     assert uniform.status == -1 and "did not converge" in uniform.message
-    adaptive = problem.solve(h="adaptive", rtol=1e-8, atol=1e-8)
+    adaptive = problem.solve(h="adaptive", rtol=1e-5, atol=1e-5)
     assert adaptive.success
     assert np.max(np.abs(adaptive.y[:, -1] - exact[:, 0])) < 5e-3
 
@@ -343,7 +346,7 @@ def test_reversible_steps_keep_the_energy_bounded_and_retrace():
         return np.abs(energy(res.sol(apoapsis), res.sol(apoapsis, 1)) - e0)
     rev = splinestep.solve_reversible(problem.fun, problem.t_span, problem.y0, problem.yp0,
                                       4e-3, problems.step_size_control, args=problem.args)
-    adaptive = problem.solve(h="adaptive", rtol=1e-6, atol=1e-9, dense_output=True)
+    adaptive = problem.solve(h="adaptive", rtol=0.1, atol=1e-4, dense_output=True)
     assert rev.success and adaptive.success
     # Comparable work: the reversible run takes no more evaluations than 3x.
     assert rev.nfev < 3 * adaptive.nfev

@@ -154,6 +154,6 @@ def test_a_planted_number_is_found(data_values):
     assert unexplained(cell, candidates) == []
     assert unexplained(cell.replace("\\Delta t = 0.01", "\\Delta t = 0.0137"), candidates) \
         == ["0.0137"]
-    assert unexplained(cell + " The error reaches $4.3 \\times 10^{-3}$.", candidates) \
-        == ["4.3 \\times 10^{-3}"]
+    assert unexplained(cell + " The error reaches $4.67 \\times 10^{-3}$.", candidates) \
+        == ["4.67 \\times 10^{-3}"]
     assert unexplained(cell + " The error reaches $4.1 \\times 10^{-3}$.", candidates) == []

@@ -203,15 +203,20 @@ def check_grid(t0, tf, h, knots, max_steps=MAX_STEPS):
 
 
 def check_tolerances(rtol, atol, first_step, max_step, max_steps, m):
-    """Validate the adaptive driver's settings; returns (rtol, atol as an
-    (m,) vector, first_step (0 when chosen automatically), max_step,
+    """Validate the adaptive driver's settings; returns (rtol and atol as
+    (m,) vectors, first_step (0 when chosen automatically), max_step,
     max_steps)."""
-    if not (is_real(rtol) and np.isfinite(rtol) and rtol > 0):
-        raise ValueError(f"rtol must be a positive finite number, got {rtol!r}")
-    if rtol < RTOL_FLOOR:  # as scipy's solve_ivp: float64 cannot reach it
-        warnings.warn(f"rtol = {rtol:g} is too small for double precision; setting "
-                      f"rtol = {RTOL_FLOOR:g}", UserWarning, stacklevel=3)
-        rtol = RTOL_FLOOR
+    rtol_array = _real_array(rtol, "rtol")
+    if rtol_array.shape not in ((1,), (m,)) or np.ndim(rtol) > 1:
+        raise ValueError(f"rtol must be a number or an array of shape ({m},), "
+                         f"got shape {np.shape(rtol)}")
+    if not np.all(np.isfinite(rtol_array) & (rtol_array > 0)):
+        raise ValueError(f"rtol must be positive and finite, got {rtol!r}")
+    if np.any(rtol_array < RTOL_FLOOR):  # as scipy's solve_ivp: float64 cannot reach it
+        warnings.warn(f"At least one element of rtol is below {RTOL_FLOOR:g}, which double "
+                      f"precision cannot reach; it is raised to {RTOL_FLOOR:g}", UserWarning,
+                      stacklevel=3)
+        rtol_array = np.maximum(rtol_array, RTOL_FLOOR)
     atol_array = _real_array(atol, "atol")
     if atol_array.shape not in ((1,), (m,)) or np.ndim(atol) > 1:
         raise ValueError(f"atol must be a number or an array of shape ({m},), "
@@ -228,7 +233,8 @@ def check_tolerances(rtol, atol, first_step, max_step, max_steps, m):
         raise ValueError(f"max_step must be a positive number (inf: no limit), "
                          f"got {max_step!r}")
     max_steps = check_max_steps(max_steps)
-    return (float(rtol), np.array(np.broadcast_to(atol_array, (m,)), dtype=float),
+    return (np.array(np.broadcast_to(rtol_array, (m,)), dtype=float),
+            np.array(np.broadcast_to(atol_array, (m,)), dtype=float),
             float(first_step), float(max_step), int(max_steps))
 
 

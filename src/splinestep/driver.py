@@ -223,10 +223,13 @@ def _taylor_jerk(fun, args, t0, tf, vec):
     """The third derivative at t0 from one difference of F along the Taylor
     line, into the row _JERK (the error controller's first step compares
     its interval's third derivative with it); returns OK, or BAD_SHAPE for
-    a value of the wrong length (one evaluation either way)."""
+    a value of the wrong length (one evaluation either way).  The
+    difference step is sqrt(eps) relative to t0 (at least 1), within the
+    span: a step relative to the span would make its truncation error, which
+    the first step's estimate cannot go below, grow with the span."""
     m = vec.shape[1]
     direction = 1.0 if tf > t0 else -1.0
-    delta = FD_STEP * max(1.0, abs(t0), abs(tf - t0)) * direction
+    delta = min(FD_STEP * max(1.0, abs(t0)), abs(tf - t0)) * direction
     for k in range(m):
         vec[_Y1, k] = vec[_Y, k] + delta * vec[_YP, k] + 0.5 * delta * delta * vec[_YPP, k]
         vec[_YP1, k] = vec[_YP, k] + delta * vec[_YPP, k]
@@ -287,7 +290,7 @@ def _specialised(KIND, CONTROL, MODE):
         settings in records of numbers: every array passed into the loop's
         helpers costs reference counting at every step."""
         t0, y0, yp0, ypp0 = start
-        knots, atol = vectors.knots, vectors.atol
+        knots, atol, rtol = vectors.knots, vectors.atol, vectors.rtol
         m, it, kind, t_eval = y0.shape[0], method.iteration, dense_kind(method.kind), saving.t_eval
         vec, T, K, RHO, E, acc = _start(ctrl, saving, t0, y0, yp0, ypp0)
         y, yp, ypp, y_new, yp_new, z = vec[_Y], vec[_YP], vec[_YPP], vec[_Y1], vec[_YP1], vec[_Z]
@@ -303,7 +306,7 @@ def _specialised(KIND, CONTROL, MODE):
         nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
         direction = 1.0 if ctrl.tf > t0 else -1.0
         status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
-        n_knots, size, rho = 1, first_size(ctrl, atol, t0, y0, yp0), 0.0
+        n_knots, size, rho = 1, first_size(ctrl, vectors, t0, y0, yp0), 0.0
         dt_prev, after_reject = 0.0, False
         if status == OK:
             n_eval = _fill_eval(t_eval, 0, t0, t0, 0.0, kind, vec, E, direction)
@@ -345,7 +348,7 @@ def _specialised(KIND, CONTROL, MODE):
                     for k in range(m):
                         jerk1[k] = (z[k] - ypp[k]) / dt
                 if CONTROL == ERROR:
-                    keep, size = judge(ctrl, atol, status, dt, dt_prev, jerk1, jerk0, y, yp,
+                    keep, size = judge(ctrl, atol, rtol, status, dt, dt_prev, jerk1, jerk0, y, yp,
                                        y_new, yp_new, after_reject)
                     after_reject = not keep
                     if not keep:

@@ -1,0 +1,50 @@
+"""rtol as a tolerance on the global error (splinestep.controllers: error
+per unit step): the final error of an adaptive run stays below rtol times
+the solution's scale and follows rtol proportionally, against exact
+solutions."""
+
+import numpy as np
+import pytest
+
+import splinestep
+from splinestep.analysis import tolerance
+
+RTOLS = 10.0 ** -np.arange(3, 9)
+
+
+@pytest.mark.parametrize("name", ["harmonic oscillator", "pendulum, 3 rad", "Kepler e = 0.9",
+                                  "rational, backwards"])
+def test_the_final_error_follows_rtol(name):
+    """Over rtol = 1e-3 ... 1e-8 (atol = 1e-3 rtol) the final error of y is
+    below rtol times the largest |y| of the exact solution, that of y'
+    within 10 times rtol times the largest |y'|, and log(error) against
+    log(rtol) has a slope within 0.2 or 0.3 of 1 (a per-step bound gives
+    about 2/3).  The problems' exact solutions: cos t, the pendulum's
+    Jacobi elliptic closed form, Kepler's equation, t / (t + 10)."""
+    rows = tolerance.runs(tolerance.problems()[name], RTOLS, methods=("spline",))
+    assert all(row["status"] == 0 for row in rows)
+    assert max(row["error_ratio"] for row in rows) < 1.0
+    assert max(row["error_ratio_yp"] for row in rows) < 10.0
+    slope = tolerance.slope(RTOLS, [row["error"] for row in rows])
+    assert 0.8 < slope < 1.3
+
+
+def test_a_hundred_times_smaller_rtol_gives_a_hundred_times_smaller_error():
+    """On the oscillator the final error at rtol 1e-4 over that at 1e-6 is
+    near 100; a bound on each step's error (error ~ rtol^(2/3)) would give
+    100^(2/3) = 21.5."""
+    problem = tolerance.problems()["harmonic oscillator"]
+    errors = [row["error"] for row in tolerance.runs(problem, [1e-4, 1e-6], methods=("spline",))]
+    assert 50 < errors[0] / errors[1] < 200
+
+
+def test_the_tolerance_is_spread_over_the_span():
+    """The same problem over twice the span takes about twice the steps per
+    unit time at the same rtol (h ~ (rtol / span)^(1/2)): the local errors
+    of the longer run sum over twice as many steps."""
+    def oscillator(t, y, yp):
+        return -y
+    short = splinestep.solve(oscillator, (0.0, 10.0), 1.0, 0.0, rtol=1e-5, atol=1e-8)
+    long = splinestep.solve(oscillator, (0.0, 20.0), 1.0, 0.0, rtol=1e-5, atol=1e-8)
+    per_time = (long.nstep / 20.0) / (short.nstep / 10.0)
+    assert 1.2 < per_time < 1.7          # sqrt(2) = 1.41
