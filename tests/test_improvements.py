@@ -333,7 +333,7 @@ def test_bvp_agrees_with_scipy_solve_bvp():
 def test_reversible_steps_keep_the_energy_bounded_and_retrace():
     """Kepler e = 0.9 over 300 orbits, energy error at each apoapsis: that of
     the reversible steps stays at its first-orbit value, that of the
-    error-controlled knots wanders off (more than 5-fold by the last 30 orbits); run
+    error-controlled knots grows (more than 5-fold by the last 30 orbits); run
     backwards from a knot, the reversible run retraces its knots."""
     orbits = 300
     problem = problems.eccentric(0.9, orbits=orbits)

@@ -9,14 +9,20 @@ far past what the solution supports, in two ways:
    h^3 y''''/12 in y' to leading order (``step.ERR_Y``, ``step.ERR_YP``).  Every run
    reports the largest of these estimates and where.  When it exceeds
    :data:`LOCAL_FRACTION` of the largest |y| (or |y'|) of the run, the
-   step cannot resolve the solution.
+   step cannot resolve the solution.  When the estimates summed over the
+   run exceed :data:`ACCUMULATED_FRACTION` of it, the steps' errors add up
+   to a solution about as far off, unless the equation damps them (for a
+   problem that neither damps nor amplifies errors the sum is the global
+   error to leading order: what the error controller bounds).
 
 2. The linearised step.  Freezing the Jacobians A = dF/dy and B = dF/dy'
    at a state gives the linear equation y'' = A y + B y'; one step of the
    method multiplies (y, y') by an amplification matrix M, and the exact
    flow by exp(h L) with L = [[0, I], [A, B]].  When the spectral radius of M
-   exceeds both 1 and that of exp(h L) by more than :data:`GROWTH_MARGIN`,
-   the step amplifies what the equation does not: on y'' = -omega^2 y the
+   exceeds both 1 and that of exp(h L) by more than :data:`GROWTH_MARGIN`
+   (and, where the equation grows, its growth rate log rho by more than
+   :data:`RATE_MARGIN`, which a step of ordinary accuracy on a growing mode
+   does not), the step amplifies what the equation does not: on y'' = -omega^2 y the
    method is stable for omega h < sqrt(12) only, and the test fires above
    omega h = 3.4641029, where rho = 1 + GROWTH_MARGIN.  At omega h =
    sqrt(12) itself M is a Jordan block with rho = 1 and the solution grows
@@ -41,8 +47,14 @@ from ._base import FD_STEP
 # |y'|), above which the step does not resolve the solution.  Accurate runs
 # sit many decades below it (tests/test_check.py measures the notebooks' runs).
 LOCAL_FRACTION = 0.1
+# The estimated local errors summed over the run, as a fraction of the
+# run's largest |y| (or |y'|), above which the solution is off by as much.
+ACCUMULATED_FRACTION = 0.3
 # Relative growth per step of the linearised step beyond the equation's own.
 GROWTH_MARGIN = 1e-3
+# Where the equation grows (rho of exp(h L) > 1), the relative excess of the
+# step's growth rate log rho over the equation's that is not mere accuracy.
+RATE_MARGIN = 0.01
 
 
 def jacobians(fun, jac, args, t, y, yp):
@@ -103,8 +115,8 @@ def report(result, run, fun, jac, args, t0, y0, yp0, y_weight, yp_weight):
     ``result.nfev`` and ``result.njev``.  The linearised step is taken at
     the step the run took there: the first, the one where the estimate is
     largest, the last."""
-    (err_y, t_err, err_yp, y_scale, yp_scale, dt_err, dt_first,
-     dt_last) = (float(v) for v in run.estimate)
+    (err_y, t_err, err_yp, y_scale, yp_scale, dt_err, dt_first, dt_last, sum_y,
+     sum_yp) = (float(v) for v in run.estimate)
     estimated = result.nstep >= 2
     result.local_error = err_y if estimated else np.nan
     result.local_error_yp = err_yp if estimated else np.nan
@@ -117,6 +129,13 @@ def report(result, run, fun, jac, args, t0, y0, yp0, y_weight, yp_weight):
             f"the estimated local error ({err_y:.2g} in y, {err_yp:.2g} in y', largest at "
             f"t = {_base.short(t_err)}) exceeds {LOCAL_FRACTION:g} of the solution's size "
             f"(max |y| = {y_scale:.3g}, max |y'| = {yp_scale:.3g})")
+    elif estimated and (sum_y > ACCUMULATED_FRACTION * y_scale
+                        or sum_yp > ACCUMULATED_FRACTION * yp_scale):
+        findings.append(
+            f"the estimated local errors sum to {sum_y:.2g} in y and {sum_yp:.2g} in y' over "
+            f"the run, more than {ACCUMULATED_FRACTION:g} of the solution's size (max |y| = "
+            f"{y_scale:.3g}, max |y'| = {yp_scale:.3g}): unless the equation damps them, the "
+            "solution is off by as much")
     states = (("initial", t0, y0, yp0, dt_first),
               ("largest-error", t_err, run.y_at_err, run.yp_at_err, dt_err if estimated
                else dt_first),
@@ -133,7 +152,7 @@ def report(result, run, fun, jac, args, t0, y0, yp0, y_weight, yp_weight):
         if not (np.all(np.isfinite(fy)) and np.all(np.isfinite(fyp))):
             continue
         rho, rho_exact = growth(fy, fyp, h, y_weight, yp_weight)
-        if rho > max(1.0, rho_exact) * (1.0 + GROWTH_MARGIN):
+        if rho > max(1.0, rho_exact) ** (1.0 + RATE_MARGIN) * (1.0 + GROWTH_MARGIN):
             findings.append(
                 f"at the {where} state (t = {_base.short(t)}) one step of the linearised "
                 f"equation grows by {rho:.3g} where the equation grows by {rho_exact:.3g} "

@@ -37,11 +37,12 @@ What rtol and atol bound.  Each step's local error is controlled per unit
 step (error per unit step: Shampine [4]_; Hairer, Norsett and Wanner [2]_,
 Sec. II.4): both estimates are multiplied by |tf - t0| / |h|, so that in
 a run whose every step passes, the local errors sum to at most the
-tolerance.  The global error of a problem that does not amplify errors is
-that sum to leading order, so it follows the tolerance proportionally
-(halving rtol halves it); bounding each step's error instead, as scipy's
-codes do, gives a step of order rtol^(1/3) and a global error of order
-rtol^(2/3) times the span.  The norm is scipy's: the root mean square over
+tolerance (in the RMS norm below: one component may take up to sqrt(2m)
+times its share).  The global error of a problem that does not amplify
+errors is that sum to leading order, so it follows the tolerance in
+proportion; bounding each step's error instead, as scipy's codes do,
+gives a step of order rtol^(1/3) and a global error of order rtol^(2/3)
+times the span.  The norm is scipy's: the root mean square over
 the 2m components of both scaled estimates divided by atol + rtol
 max(|old|, |new|), with rtol and atol per component.  A step is accepted
 when the norm is at most 1; the next step is the current one times
@@ -51,9 +52,12 @@ step whose equation could not be solved (the sweep diverged, Newton
 failed) is rejected and retried FAILED_FACTOR times smaller.  Measured on
 five problems over rtol = 1e-3 ... 1e-8 (:mod:`splinestep.analysis.tolerance`,
 notebook 07), the final error of y stays below rtol times the solution's
-scale and that of y' within 10 times.  Where a problem amplifies errors
-(an unstable or chaotic one), no control of local errors bounds the
-global error.
+scale and that of y' within 10 times (the largest error over a run up to
+2.6 times, on the pendulum at rtol 1e-3), and the error falls with rtol at
+slopes 0.90 to 1.28.  Where a problem amplifies errors, no control of
+local errors bounds the global error: on Pleiades, whose close encounters
+amplify them, the final error is about 40 times rtol (8 times rtol times
+the largest |y|), still in proportion to it.
 
 References
 ----------

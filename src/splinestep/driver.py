@@ -90,10 +90,11 @@ headed), the counts, the knots ``T[:n_knots]`` with ``K`` (knot, (y, y',
 y''), component) and ``RHO`` (the reversible control of the step ending at
 each knot), the values at ``t_eval[:n_eval]`` in ``E`` ((y, y', y''),
 time, component), and the local error estimate: ``estimate`` holds
-(err_y, t_err, err_yp, y_scale, yp_scale, dt_at_err, dt_first, dt_last),
+(err_y, t_err, err_yp, y_scale, yp_scale, dt_at_err, dt_first, dt_last,
+sum_y, sum_yp: the estimates summed over the steps),
 with the state where err_y is largest and the final state."""
 
-_E_Y, _E_T, _E_YP, _E_YSCALE, _E_YPSCALE, _E_DT, _E_FIRST, _E_LAST = range(8)
+_E_Y, _E_T, _E_YP, _E_YSCALE, _E_YPSCALE, _E_DT, _E_FIRST, _E_LAST, _E_SUM_Y, _E_SUM_YP = range(10)
 
 
 @register_jitable
@@ -181,8 +182,8 @@ def _estimate(acc, vec, dt, dt_prev, t, have_jump):
     """After the accepted spline step of size ``dt`` from the knot ``t``:
     the largest |y|, |y'| (the step's end included), the first and last
     steps, and (after the first step) the largest estimated local errors
-    (see ``step.local_errors``) in ``acc``, with the state where that of y
-    is largest."""
+    (see ``step.local_errors``) and their sums in ``acc``, with the state
+    where that of y is largest."""
     m = vec.shape[1]
     if not have_jump:
         acc[_E_FIRST] = dt
@@ -205,6 +206,8 @@ def _estimate(acc, vec, dt, dt_prev, t, have_jump):
             vec[_Y_ERR, k] = vec[_Y, k]
             vec[_YP_ERR, k] = vec[_YP, k]
     acc[_E_YP] = max(acc[_E_YP], eyp)
+    acc[_E_SUM_Y] += ey
+    acc[_E_SUM_YP] += eyp
 
 
 @njit(cache=True, inline="always")
@@ -256,7 +259,7 @@ def _start(ctrl, saving, t0, y0, yp0, ypp0):
         rows = ctrl.n + 1 if ctrl.kind == CONSTANT else 256
     T, K, RHO = np.empty(rows), np.empty((rows, 3, m)), np.zeros(rows)
     _put(T, K, RHO, 0, t0, vec, np.nan)
-    acc = np.zeros(8)
+    acc = np.zeros(10)
     acc[_E_T] = t0
     for k in range(m):
         acc[_E_YSCALE] = max(acc[_E_YSCALE], abs(y0[k]))

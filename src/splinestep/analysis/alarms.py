@@ -1,0 +1,107 @@
+"""How well the step-too-large check (:mod:`splinestep.check`) tells
+inaccurate fixed-step runs from accurate ones.
+
+:func:`runs` solves a set of problems at several uniform steps, forwards
+and backwards, and records for each run its error against an exact
+solution (or a Radau solve at rtol = atol = 1e-12), relative to the
+solution's largest |y|, and whether the run warned that its step is too
+large.  :func:`tally` counts the false alarms (a warning on a run whose
+error is below ``silent`` of the scale) and the misses (no warning on a run
+whose error is above ``loud``); runs in between may go either way.
+"""
+
+import warnings
+
+import numpy as np
+from numba import njit
+
+from .. import problems as _problems
+from .. import solve
+from ..problems.nonlinear import duffing, pendulum, rational
+
+
+@njit(cache=True)
+def van_der_pol(t, y, yp, mu):
+    return (mu * (1.0 - y[0] ** 2) * yp[0] - y[0],)
+
+
+@njit(cache=True)
+def damped_oscillator(t, y, yp, c):
+    return (-y[0] - c * yp[0],)
+
+
+def _radau(fun, args, t_span, y0, yp0):
+    """A dense Radau solution (rtol = atol = 1e-12) of the first-order form."""
+    from scipy.integrate import solve_ivp
+    m = y0.size
+
+    def first_order(s, u):
+        return np.concatenate([u[m:], np.atleast_1d(fun.py_func(s, u[:m], u[m:], *args))])
+    sol = solve_ivp(first_order, t_span, np.r_[y0, yp0], method="Radau", rtol=1e-12,
+                    atol=1e-12, dense_output=True)
+    return lambda t: sol.sol(t)[:m]
+
+
+def cases():
+    """(name, fun, args, t_span, y0, yp0, steps, exact or None, options) of
+    the study: the harmonic oscillator and a damped one (c = 0.1), forwards
+    and backwards; Van der Pol at mu = 1 and 10 (Newton); the Kepler orbit
+    e = 0.9 over one period; the pendulum from 3 rad; scipy's rational
+    problem both ways; the forced Duffing oscillator."""
+    one = np.ones(1)
+    ecc, pen, duf = _problems.eccentric(0.9), pendulum(), duffing()
+    period = ecc.t_span[1]
+    out = []
+    for span in ((0.0, 20.0), (20.0, 0.0)):
+        out.append(("oscillator", _problems.harmonic().fun, (1.0,), span, one, 0 * one,
+                    (0.05, 0.1, 0.3, 1.0), lambda t, s=span: np.cos(t - s[0])[None], {}))
+        out.append(("damped oscillator", damped_oscillator, (0.1,), span, one, 0 * one,
+                    (0.01, 0.1, 0.5, 1.0), None, {}))
+    for mu, steps in ((1.0, (0.005, 0.02, 0.05, 0.1, 0.2)),
+                      (10.0, (0.001, 0.005, 0.01, 0.02, 0.05))):
+        out.append((f"Van der Pol mu = {mu:g}", van_der_pol, (mu,), (0.0, 30.0), 2 * one,
+                    0 * one, steps, None, dict(iteration="newton")))
+    out.append(("Kepler e = 0.9", ecc.fun, ecc.args, ecc.t_span, ecc.y0, ecc.yp0,
+                tuple(period / n for n in (1000, 4000, 16000, 64000)),
+                lambda t: ecc.exact(t)[0], {}))
+    out.append(("pendulum, 3 rad", pen.fun, pen.args, pen.t_span, pen.y0, pen.yp0,
+                (0.01, 0.05, 0.1, 0.3, 0.6), lambda t: pen.exact(t)[0], {}))
+    for span in ((5.0, 1.0), (5.0, 9.0)):
+        rat = rational(span)
+        out.append(("rational", rat.fun, (), span, rat.y0, rat.yp0, (0.01, 0.1, 0.5, 1.0),
+                    lambda t: (t / (t + 10.0))[None], {}))
+    out.append(("forced Duffing", duf.fun, duf.args, duf.t_span, duf.y0, duf.yp0,
+                (0.01, 0.1, 0.3, 0.6), None, {}))
+    return out
+
+
+def runs():
+    """One row per run of :func:`cases`: name, t_span, h, status, the
+    largest error over the knots relative to the largest |y| of the
+    reference, and whether the run warned that its step is too large."""
+    rows = []
+    for name, fun, args, span, y0, yp0, steps, exact, options in cases():
+        reference = exact or _radau(fun, args, span, y0, yp0)
+        for h in steps:
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                res = solve(fun, span, y0, yp0, h, args=args, **options)
+            warned = any("too large" in str(w.message) for w in caught)
+            error = np.nan
+            if res.status == 0:
+                ref = reference(res.t)
+                error = float(np.max(np.abs(res.y - ref)) / np.max(np.abs(ref)))
+            rows.append(dict(problem=name, t0=span[0], tf=span[1], h=h, status=res.status,
+                             relative_error=error, warned=warned))
+    return rows
+
+
+def tally(rows, silent=0.01, loud=0.1):
+    """(false alarms, accurate runs, misses, inaccurate runs) among the runs
+    that reached the end: accurate below ``silent`` of the scale,
+    inaccurate above ``loud``."""
+    done = [r for r in rows if r["status"] == 0]
+    accurate = [r for r in done if r["relative_error"] < silent]
+    inaccurate = [r for r in done if r["relative_error"] > loud]
+    return (sum(r["warned"] for r in accurate), len(accurate),
+            sum(not r["warned"] for r in inaccurate), len(inaccurate))
