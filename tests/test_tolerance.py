@@ -48,3 +48,17 @@ def test_the_tolerance_is_spread_over_the_span():
     long = splinestep.solve(oscillator, (0.0, 20.0), 1.0, 0.0, rtol=1e-5, atol=1e-8)
     per_time = (long.nstep / 20.0) / (short.nstep / 10.0)
     assert 1.2 < per_time < 1.7          # sqrt(2) = 1.41
+
+
+def test_a_late_start_takes_its_first_step():
+    """The first step's finite difference of F is sqrt(eps) times the
+    smaller of |t0| and the span: a run of y'' = -y from y' = 0 at t0 = 1e8
+    over a span of 10 goes as one from t0 = 0 (relative to |t0| alone it
+    could not take its first step)."""
+    def oscillator(t, y, yp):
+        return -y
+    runs = [splinestep.solve(oscillator, (t0, t0 + 10.0), 1.0, 0.0, rtol=1e-6, atol=1e-9)
+            for t0 in (0.0, 1e8)]
+    assert all(r.status == 0 for r in runs)
+    assert runs[1].nstep == runs[0].nstep
+    assert abs(runs[1].y[0, -1] - np.cos(10.0)) < 1e-6

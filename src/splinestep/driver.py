@@ -227,12 +227,16 @@ def _taylor_jerk(fun, args, t0, tf, vec):
     line, into the row _JERK (the error controller's first step compares
     its interval's third derivative with it); returns OK, or BAD_SHAPE for
     a value of the wrong length (one evaluation either way).  The
-    difference step is sqrt(eps) relative to t0 (at least 1), within the
-    span: a step relative to the span would make its truncation error, which
-    the first step's estimate cannot go below, grow with the span."""
+    difference step is sqrt(eps) times the larger of 1 and the smaller of
+    |t0| and the span, within the span: relative to the span alone, its
+    truncation error, which the first step's estimate cannot go below,
+    would grow with the span (a 300-orbit run could not take its first
+    step); relative to |t0| alone, with |t0| (a start at t0 = 1e7 over a
+    span of 10 could not either)."""
     m = vec.shape[1]
     direction = 1.0 if tf > t0 else -1.0
-    delta = min(FD_STEP * max(1.0, abs(t0)), abs(tf - t0)) * direction
+    span = abs(tf - t0)
+    delta = min(FD_STEP * max(1.0, min(abs(t0), span)), span) * direction
     for k in range(m):
         vec[_Y1, k] = vec[_Y, k] + delta * vec[_YP, k] + 0.5 * delta * delta * vec[_YPP, k]
         vec[_YP1, k] = vec[_YP, k] + delta * vec[_YPP, k]

@@ -183,7 +183,11 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         problems over rtol = 1e-3 ... 1e-8: the final error below rtol
         times the solution's scale in y, within 10 times in y'; a problem
         that amplifies errors, such as Pleiades, ends further off, about
-        40 times rtol).  scipy's codes bound each step's error instead.  Where y or y' passes through
+        40 times rtol).  scipy's codes bound each step's error instead.
+        The tolerance is spread over the whole of t_span, also when a
+        terminal event ends the run early, and the work grows like
+        |tf - t0|^(3/2) / rtol^(1/2): below about rtol = 1e-12 a run may
+        exhaust ``max_steps``.  Where y or y' passes through
         zero, atol sets the scale.  ``res.t`` holds the knots chosen;
         ``res.n_rejected`` and ``res.n_failed`` count the steps rejected by
         the estimate and those whose equation could not be solved (both
