@@ -70,9 +70,9 @@ def test_false_alarms_and_misses_over_runs_of_known_error():
     whose error is below 1 % of the solution's scale warns (29 runs); of
     the 9 runs off by more than 10 %, at most 3 go unflagged (the damped
     oscillator backwards at h = 0.5 and the Kepler orbit at T/1000 and
-    T/4000, whose error comes from the periapsis passages at the run's two
-    ends; the old check, a per-step estimate and the step's growth, missed
-    8 of the 9 and flagged one accurate run)."""
+    T/4000, whose error is made at the first periapsis passage and then
+    amplified by the orbit's drift; the old check, a per-step estimate and
+    the step's growth, missed 8 of the 9 and flagged one accurate run)."""
     from splinestep.analysis import alarms
     false_alarms, accurate, misses, inaccurate = alarms.tally(alarms.runs())
     assert accurate >= 25 and inaccurate >= 8
