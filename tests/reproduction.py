@@ -176,6 +176,8 @@ COLUMNS = {
     "global-sweep": dict(knots="exact", status="exact", newton_iterations="exact",
                          nfev="exact", njev="exact", nfev_stepwise="exact",
                          njev_stepwise="exact", max_difference="rounding"),
+    "bvp-tolerance": dict(tol="exact", points="exact", estimated_error="error",
+                          true_error="error"),
     "bvp-bratu": dict(points="exact", h="exact", status="exact", newton_iterations="exact",
                       error="error", scipy_status="exact", scipy_points="adaptive",
                       scipy_error="adaptive"),

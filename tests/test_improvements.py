@@ -263,7 +263,7 @@ def test_bratu_both_branches_at_order_two(branch, amplitude):
     errors = []
     for x in meshes:
         res = splinestep.solve_bvp(fun, x, 0.0, 0.0, y_guess=amplitude * np.sin(np.pi * x)[None],
-                                   args=args)
+                                   args=args, tol=np.inf)    # on this mesh, as given
         assert res.success, res.message
         errors.append(np.max(np.abs(res.y - exact(x))))
     hs = np.array([x[1] for x in meshes])
@@ -277,7 +277,8 @@ def test_linear_bvp_with_jacobian_and_a_vector():
     twice as a system of two identical components; exact jac given."""
     x = np.linspace(0.0, 1.0, 101)
     jac = lambda t, y, yp: (np.eye(2), np.zeros((2, 2)))   # noqa: E731
-    res = splinestep.solve_bvp(lambda t, y, yp: y, x, [0.0, 0.0], [1.0, 1.0], jac=jac)
+    res = splinestep.solve_bvp(lambda t, y, yp: y, x, [0.0, 0.0], [1.0, 1.0], jac=jac,
+                               tol=np.inf)
     exact = np.sinh(x) / np.sinh(1.0)
     error = np.max(np.abs(res.y - exact))
     # The spline's error: h^2/12 y'''' scaled by the Green's function, below 1e-5 here.
@@ -291,6 +292,45 @@ def test_bvp_without_solution_fails_with_a_message():
     x = np.linspace(0.0, 1.0, 41)
     res = splinestep.solve_bvp(fun, x, 0.0, 0.0, args=(4.0,))
     assert res.status == -1 and not res.success and "Newton" in res.message
+
+
+@pytest.mark.parametrize("tol", [1e-3, 1e-6, 1e-8])
+def test_bvp_tolerance_bounds_the_error(tol):
+    """Bratu (lambda = 1, lower branch) from 11 points: the mesh is halved
+    until the estimated error of y (mesh halving, order 2) is within tol;
+    the true error, against the exact solution, is within tol as well, and
+    the estimate within 10 % of it."""
+    fun, _, args, exact = problems.bratu(1.0, "lower")
+    res = splinestep.solve_bvp(fun, np.linspace(0.0, 1.0, 11), 0.0, 0.0, args=args, tol=tol,
+                               max_nodes=10_000)
+    true = np.max(np.abs(res.y[0] - exact(res.t)))
+    assert res.success and true <= tol
+    assert abs(res.error_estimate / true - 1) < 0.1
+
+
+def test_bvp_without_a_unique_solution_fails_with_a_message():
+    """y'' = -y on [0, pi] with y(0) = 0, y(pi) = 1 has no solution
+    (resonance: sin vanishes at both ends).  Each mesh has a discrete
+    solution, but it grows as the mesh is refined (max |y| in the
+    hundreds of thousands at 641 points): the run fails and says why.
+    Before, Newton converged and the run reported success."""
+    res = splinestep.solve_bvp(lambda x, y, yp: -y, np.linspace(0.0, np.pi, 11), 0.0, 1.0)
+    assert res.status == -1 and not res.success
+    assert "does not converge as the mesh is refined" in res.message
+    assert np.max(np.abs(res.y)) > 1e3
+
+
+def test_bvp_keeps_the_given_mesh_when_it_is_fine_enough():
+    """y'' = y, y(0) = 0, y(1) = 1 on 101 points: error 4.4e-7, within the
+    default tol (1e-6): the solution is on the given mesh, with the
+    estimate of its error, which the refined solve costs."""
+    x = np.linspace(0.0, 1.0, 101)
+    res = splinestep.solve_bvp(lambda t, y, yp: y, x, 0.0, 1.0)
+    true = np.max(np.abs(res.y[0] - np.sinh(x) / np.sinh(1.0)))
+    assert res.success and np.array_equal(res.t, x)
+    assert 1e-7 < true < 1e-6 and abs(res.error_estimate / true - 1) < 0.1
+    assert np.isnan(splinestep.solve_bvp(lambda t, y, yp: y, x, 0.0, 1.0,
+                                         tol=np.inf).error_estimate)
 
 
 def test_bvp_whose_right_hand_side_raises_part_way_fails_with_a_message():
@@ -308,7 +348,8 @@ def test_bvp_whose_right_hand_side_raises_part_way_fails_with_a_message():
 @pytest.mark.parametrize("kwargs, name", [
     (dict(x=[0.0, 1.0]), "x"), (dict(x=[0.0, 0.5, 0.5, 1.0]), "x"),
     (dict(y_guess=np.zeros((2, 5))), "y_guess"), (dict(tol=0.0), "tol"),
-    (dict(max_iter=0), "max_iter"), (dict(ya=[0.0, 1.0]), "y0 and yp0")])
+    (dict(max_iter=0), "max_iter"), (dict(ya=[0.0, 1.0]), "y0 and yp0"),
+    (dict(max_nodes=2), "max_nodes"), (dict(tol=np.nan), "tol")])
 def test_solve_bvp_rejects_bad_input(kwargs, name):
     call = dict(x=np.linspace(0, 1, 5), ya=0.0, yb=0.0)
     call.update(kwargs)
@@ -323,7 +364,7 @@ def test_bvp_agrees_with_scipy_solve_bvp():
     from scipy.integrate import solve_bvp as scipy_bvp
     fun, _, args, exact = problems.bratu(1.0, "lower")
     x = np.linspace(0.0, 1.0, 81)
-    ours = splinestep.solve_bvp(fun, x, 0.0, 0.0, args=args)
+    ours = splinestep.solve_bvp(fun, x, 0.0, 0.0, args=args, tol=np.inf)
     theirs = scipy_bvp(lambda s, u: np.vstack([u[1], -np.exp(u[0])]),
                        lambda a, b: np.array([a[0], b[0]]), x, np.zeros((2, x.size)), tol=1e-8)
     assert theirs.success
@@ -397,7 +438,8 @@ def test_bvp_with_general_boundary_conditions():
     errors, hs = [], []
     for n in (21, 41, 81):
         x = np.linspace(0.0, 1.0, n)
-        res = splinestep.solve_bvp(lambda t, y, yp: y, x, bc=bc, y_guess=np.zeros((1, n)))
+        res = splinestep.solve_bvp(lambda t, y, yp: y, x, bc=bc, y_guess=np.zeros((1, n)),
+                                   tol=np.inf)
         assert res.success, res.message
         errors.append(np.max(np.abs(res.y[0] - (np.exp(x) - np.exp(2 - x)) / 2)))
         hs.append(x[1])

@@ -189,32 +189,38 @@ def newton(fun, jac, args, t, U, boundary, tol, max_iter):
                 "iterations; try a better y_guess or a finer mesh."), max_iter, nfev, njev
 
 
-def result(t, U, status, message, niter, nfev, njev, t_eval=None, dense_output=True):
-    """The :class:`OdeResult` of a whole-trajectory solve on the knots ``t``
-    (the same keys as every solver's; no local error estimate)."""
-    T, Y, YP, Z = t, U[:, 0], U[:, 1], U[:, 2]
-    sol = SplineSolution(T, Y, YP, Z)
-    if t_eval is not None:
-        t_out, y, yp, ypp = t_eval, sol(t_eval), sol(t_eval, 1), sol(t_eval, 2)
-    else:
-        t_out, y, yp, ypp = T.copy(), Y.T.copy(), YP.T.copy(), Z.T.copy()
-    return new_result(t=t_out, y=y, yp=yp, ypp=ypp, sol=sol if dense_output else None,
-                      nfev=nfev, njev=njev, niter=niter, nstep=T.size - 1,
-                      status=0 if status == 0 else -1, message=message)
+# Newton's method on a mesh stops when its update is at most this times
+# max(1, the largest |value|); the solution's error is judged by ``tol``.
+NEWTON_TOL = 1e-10
+# The estimate must fall at least this much when the mesh is halved (order 2:
+# by 4) for the solution to be taken as converging with the mesh.
+CONVERGING = 2.0
 
 
-def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-10, max_iter=50,
-              jac=None, args=()):
+def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-6, max_nodes=1000,
+              max_iter=50, jac=None, args=()):
     """Solve the boundary value problem y'' = F(x, y, y'), y(x[0]) = ya,
     y(x[-1]) = yb (or general conditions ``bc``), with the C2 cubic spline on
-    the mesh ``x`` that satisfies the equation at every mesh point.
+    a mesh that satisfies the equation at every mesh point, refined from
+    ``x`` until the estimated error of y is within ``tol``.
+
+    The error of the solution on a mesh is estimated by solving again on
+    the mesh with every interval halved: the method is of order 2, so
+    (y_h - y_{h/2}) 4/3 estimates the error of y_h (Richardson).  While the
+    estimate exceeds ``tol`` max(1, max |y|), the mesh is halved, up to
+    ``max_nodes`` points (the mesh of the estimate may have up to twice as
+    many).  When the estimate does not fall at least twofold as the mesh is
+    halved, the solution does not converge with the mesh: the problem has
+    no solution, or no unique one, near the guess (its linearisation is
+    singular or nearly so, as y'' = -y on [0, pi] with y(0) = 0, y(pi) = 1),
+    and the message says so.
 
     Parameters
     ----------
     fun : callable
         ``fun(x, y, yp, *args) -> y''`` as for :func:`splinestep.solve`.
     x : array_like, shape (k,)
-        The mesh, strictly increasing, k >= 3.
+        The initial mesh, strictly increasing, k >= 3.
     ya, yb : float or array_like, shape (m,)
         The boundary values (None when ``bc`` is given).
     bc : callable, optional
@@ -228,10 +234,16 @@ def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-10, max
         (Bratu's) converges to the one near the guess.  y' and y'' start from
         its finite differences.
     tol : float
-        Newton's method stops when its update is at most ``tol`` times
-        max(1, the largest |value|).
+        The estimated error of y (largest over mesh points and components)
+        must be at most ``tol`` times max(1, max |y|).  ``np.inf``: the
+        solution on ``x`` as given, without an estimate (for a study on
+        chosen meshes).  Newton's method on each mesh stops when its update
+        is at most :data:`NEWTON_TOL` times max(1, the largest |value|).
+    max_nodes : int
+        The most mesh points of the returned solution (scipy's
+        ``max_nodes``); at most x.size: no refinement, only the estimate.
     max_iter : int
-        Newton iterations allowed.
+        Newton iterations allowed on each mesh.
     jac : callable, optional
         ``jac(x, y, yp, *args) -> (dF/dy, dF/dyp)``; finite differences
         otherwise (2m evaluations per mesh point and iteration).
@@ -241,15 +253,20 @@ def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-10, max
     Returns
     -------
     OdeResult
-        ``t`` (the mesh), ``y``, ``yp``, ``ypp`` (m, k), ``sol`` (the spline),
-        ``niter``, ``nfev``, ``njev``, ``status`` (0 converged, -1 not),
-        ``message``, ``success``.  Order 2 in the mesh width.
+        ``t`` (the final mesh), ``y``, ``yp``, ``ypp`` (m, k), ``sol`` (the
+        spline), ``error_estimate`` (the estimated error of y on that
+        mesh, NaN with ``tol = inf``), ``niter`` (Newton iterations on the
+        returned mesh), ``nfev`` and ``njev`` (every call, on every mesh
+        solved), ``status`` (0: converged within ``tol``; -1: Newton failed,
+        or the estimate exceeds ``tol`` at ``max_nodes``), ``message``,
+        ``success``.  Order 2 in the mesh width.
 
     References
     ----------
     .. [1] U. M. Ascher, R. M. M. Mattheij, R. D. Russell, "Numerical Solution
        of Boundary Value Problems for Ordinary Differential Equations", SIAM
-       (1995), Sec. 5.4 (spline collocation).
+       (1995), Sec. 5.4 (spline collocation) and Sec. 9.3 (error estimates
+       by mesh halving).
     """
     x = _base._real_array(x, "x")
     if x.ndim != 1 or x.size < 3 or not np.all(np.isfinite(x)) or not np.all(np.diff(x) > 0):
@@ -273,8 +290,10 @@ def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-10, max
         raise ValueError("fun must be callable")
     if jac is not None and not callable(jac):
         raise ValueError("jac must be callable or None")
-    if not (_base.is_real(tol) and np.isfinite(tol) and tol > 0):
-        raise ValueError(f"tol must be positive and finite, got {tol!r}")
+    if not (_base.is_real(tol) and tol > 0):
+        raise ValueError(f"tol must be positive (inf: no estimate), got {tol!r}")
+    if not (_base.is_integer(max_nodes) and max_nodes >= 3):
+        raise ValueError(f"max_nodes must be an integer >= 3, got {max_nodes!r}")
     if not (_base.is_integer(max_iter) and max_iter >= 1):
         raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
     if y_guess is None:
@@ -297,9 +316,63 @@ def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-10, max
     YP = np.gradient(Y, x, axis=0)
     Z = np.gradient(YP, x, axis=0)
     U = np.stack([Y, YP, Z], axis=1)
-    with np.errstate(all="ignore"):
-        status, message, niter, nfev, njev = newton(
-            fun, jac, args, x, U, bc if bc is not None else [(0, 0, ya), (x.size - 1, 0, yb)],
-            tol, max_iter)
     # The counts include the calls of fun and jac that checked them at x[0].
-    return result(x, U, status, message, niter, nfev + 1, njev + int(jac is not None))
+    counts = [1, int(jac is not None)]
+
+    def on(mesh, U):
+        """Newton on ``mesh`` from the guess ``U`` (overwritten): (status,
+        message, niter), the calls counted."""
+        conditions = bc if bc is not None else [(0, 0, ya), (mesh.size - 1, 0, yb)]
+        with np.errstate(all="ignore"):
+            status, message, niter, nfev, njev = newton(fun, jac, args, mesh, U, conditions,
+                                                        NEWTON_TOL, max_iter)
+        counts[0] += nfev
+        counts[1] += njev
+        return status, message, niter
+
+    status, message, niter = on(x, U)
+    if status != 0 or not np.isfinite(tol):
+        return result(x, U, status, message, niter, *counts)
+    previous = np.nan
+    while True:
+        fine = np.empty(2 * x.size - 1)
+        fine[::2], fine[1::2] = x, 0.5 * (x[:-1] + x[1:])
+        coarse = SplineSolution(x, U[:, 0], U[:, 1], U[:, 2])
+        U_fine = np.stack([coarse(fine, nu).T for nu in range(3)], axis=1)
+        fine_status, fine_message, fine_niter = on(fine, U_fine)
+        if fine_status != 0:
+            return result(x, U, -1, f"On the refined mesh of {fine.size} points: "
+                          f"{fine_message}", niter, *counts)
+        estimate = float(np.max(np.abs(U[:, 0] - U_fine[::2, 0]))) * 4.0 / 3.0
+        bound = tol * max(1.0, float(np.max(np.abs(U[:, 0]))))
+        if estimate <= bound:
+            return result(x, U, 0, f"Converged: the estimated error of y, {estimate:.2g}, is "
+                          f"within tol on {x.size} mesh points.", niter, *counts,
+                          error_estimate=estimate)
+        if fine.size > max_nodes:
+            text = (f"The estimated error of y, {estimate:.2g}, exceeds tol "
+                    f"({bound:.2g}) on {x.size} mesh points, and the mesh may not grow past "
+                    f"max_nodes = {max_nodes}.")
+            if not estimate * CONVERGING <= previous:
+                text += (f" The solution does not converge as the mesh is refined (estimates "
+                         f"{previous:.2g} -> {estimate:.2g}): the problem may have no "
+                         "solution, or no unique one, near the guess (its linearisation is "
+                         "singular or nearly so).")
+            return result(x, U, -1, text, niter, *counts, error_estimate=estimate)
+        previous, x, U, niter = estimate, fine, U_fine, fine_niter
+
+
+def result(t, U, status, message, niter, nfev, njev, t_eval=None, dense_output=True,
+           error_estimate=np.nan):
+    """The :class:`OdeResult` of a whole-trajectory solve on the knots ``t``
+    (the same keys as every solver's; no local error estimate)."""
+    T, Y, YP, Z = t, U[:, 0], U[:, 1], U[:, 2]
+    sol = SplineSolution(T, Y, YP, Z)
+    if t_eval is not None:
+        t_out, y, yp, ypp = t_eval, sol(t_eval), sol(t_eval, 1), sol(t_eval, 2)
+    else:
+        t_out, y, yp, ypp = T.copy(), Y.T.copy(), YP.T.copy(), Z.T.copy()
+    return new_result(t=t_out, y=y, yp=yp, ypp=ypp, sol=sol if dense_output else None,
+                      nfev=nfev, njev=njev, niter=niter, nstep=T.size - 1,
+                      status=0 if status == 0 else -1, message=message,
+                      error_estimate=error_estimate)

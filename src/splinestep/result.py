@@ -48,6 +48,9 @@ class OdeResult(dict):
         for the baselines (RK4, Verlet) and global runs.
     t_local_error : float
         The knot where ``local_error`` is largest.
+    error_estimate : float
+        :func:`splinestep.solve_bvp`: the estimated error of y on the
+        returned mesh (by mesh halving); NaN elsewhere.
     rho : ndarray or None
         Time-reversible steps: the control variable of each step; None
         otherwise.
@@ -92,7 +95,8 @@ class OdeResult(dict):
 # Every result's keys and the value of each where it does not apply.
 DEFAULTS = dict(t=None, y=None, yp=None, ypp=None, sol=None, t_events=None, y_events=None,
                 yp_events=None, nfev=0, njev=0, niter=0, nstep=0, n_rejected=0, n_failed=0,
-                local_error=np.nan, local_error_yp=np.nan, t_local_error=np.nan, rho=None,
+                local_error=np.nan, local_error_yp=np.nan, t_local_error=np.nan,
+                error_estimate=np.nan, rho=None,
                 method="spline", order=2, path="plain", status=0, message="", success=True)
 
 
