@@ -314,10 +314,22 @@ def test_bvp_without_a_unique_solution_fails_with_a_message():
     solution, but it grows as the mesh is refined (max |y| in the
     hundreds of thousands at 641 points): the run fails and says why.
     Before, Newton converged and the run reported success."""
-    res = splinestep.solve_bvp(lambda x, y, yp: -y, np.linspace(0.0, np.pi, 11), 0.0, 1.0)
-    assert res.status == -1 and not res.success
-    assert "does not converge as the mesh is refined" in res.message
-    assert np.max(np.abs(res.y)) > 1e3
+    for max_nodes in (1000, 20_000):   # stopped by max_nodes; by Newton on 2561 points
+        res = splinestep.solve_bvp(lambda x, y, yp: -y, np.linspace(0.0, np.pi, 11), 0.0, 1.0,
+                                   max_nodes=max_nodes)
+        assert res.status == -1 and not res.success
+        assert "does not converge as the mesh is refined" in res.message
+        assert np.max(np.abs(res.y)) > 1e3
+
+
+def test_bvp_stopped_at_max_nodes_before_a_second_estimate_does_not_blame_the_problem():
+    """y'' = y from 11 points at tol 1e-8 with max_nodes = 15: one estimate
+    only (4.4e-5), over tol; the run fails for max_nodes, and says nothing
+    of a solution that does not converge."""
+    res = splinestep.solve_bvp(lambda t, y, yp: y, np.linspace(0.0, 1.0, 11), 0.0, 1.0,
+                               tol=1e-8, max_nodes=15)
+    assert res.status == -1 and "max_nodes = 15" in res.message
+    assert "does not converge" not in res.message and "nan" not in res.message
 
 
 def test_bvp_keeps_the_given_mesh_when_it_is_fine_enough():

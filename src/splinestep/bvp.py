@@ -209,11 +209,15 @@ def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-6, max_
     (y_h - y_{h/2}) 4/3 estimates the error of y_h (Richardson).  While the
     estimate exceeds ``tol`` max(1, max |y|), the mesh is halved, up to
     ``max_nodes`` points (the mesh of the estimate may have up to twice as
-    many).  When the estimate does not fall at least twofold as the mesh is
-    halved, the solution does not converge with the mesh: the problem has
-    no solution, or no unique one, near the guess (its linearisation is
-    singular or nearly so, as y'' = -y on [0, pi] with y(0) = 0, y(pi) = 1),
-    and the message says so.
+    many).  A run that ends without meeting ``tol`` (at ``max_nodes``, or
+    when Newton fails on a refined mesh) fails; when its last estimates did
+    not fall at least twofold as the mesh was halved, the message adds that
+    the solution does not converge with the mesh: the problem may have no
+    solution, or no unique one, near the guess (its linearisation singular
+    or nearly so, as y'' = -y on [0, pi] with y(0) = 0, y(pi) = 1), or the
+    mesh is still too coarse to resolve it (y'' = -300^2 y on 641 points).
+    A problem with many solutions, such as y'' = -y on [0, pi] with y(0) =
+    y(pi) = 0, converges to the one near the guess without a word.
 
     Parameters
     ----------
@@ -240,8 +244,9 @@ def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-6, max_
         chosen meshes).  Newton's method on each mesh stops when its update
         is at most :data:`NEWTON_TOL` times max(1, the largest |value|).
     max_nodes : int
-        The most mesh points of the returned solution (scipy's
-        ``max_nodes``); at most x.size: no refinement, only the estimate.
+        The most mesh points the refinement may reach (scipy's
+        ``max_nodes``); a mesh ``x`` of max_nodes points or more is not
+        refined, only its error estimated.
     max_iter : int
         Newton iterations allowed on each mesh.
     jac : callable, optional
@@ -333,7 +338,17 @@ def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-6, max_
     status, message, niter = on(x, U)
     if status != 0 or not np.isfinite(tol):
         return result(x, U, status, message, niter, *counts)
-    previous = np.nan
+    history = []       # the estimates of the meshes solved so far
+
+    def diverging():
+        """The sentence for estimates that did not fall with the mesh, or ''."""
+        if len(history) < 2 or history[-1] * CONVERGING <= history[-2]:
+            return ""
+        return (f" The solution does not converge as the mesh is refined (estimates "
+                f"{history[-2]:.2g} -> {history[-1]:.2g}): the problem may have no solution, "
+                "or no unique one, near the guess (its linearisation singular or nearly so), "
+                "or the mesh is still too coarse to resolve it.")
+
     while True:
         fine = np.empty(2 * x.size - 1)
         fine[::2], fine[1::2] = x, 0.5 * (x[:-1] + x[1:])
@@ -342,8 +357,9 @@ def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-6, max_
         fine_status, fine_message, fine_niter = on(fine, U_fine)
         if fine_status != 0:
             return result(x, U, -1, f"On the refined mesh of {fine.size} points: "
-                          f"{fine_message}", niter, *counts)
+                          f"{fine_message}{diverging()}", niter, *counts)
         estimate = float(np.max(np.abs(U[:, 0] - U_fine[::2, 0]))) * 4.0 / 3.0
+        history.append(estimate)
         bound = tol * max(1.0, float(np.max(np.abs(U[:, 0]))))
         if estimate <= bound:
             return result(x, U, 0, f"Converged: the estimated error of y, {estimate:.2g}, is "
@@ -353,13 +369,9 @@ def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-6, max_
             text = (f"The estimated error of y, {estimate:.2g}, exceeds tol "
                     f"({bound:.2g}) on {x.size} mesh points, and the mesh may not grow past "
                     f"max_nodes = {max_nodes}.")
-            if not estimate * CONVERGING <= previous:
-                text += (f" The solution does not converge as the mesh is refined (estimates "
-                         f"{previous:.2g} -> {estimate:.2g}): the problem may have no "
-                         "solution, or no unique one, near the guess (its linearisation is "
-                         "singular or nearly so).")
-            return result(x, U, -1, text, niter, *counts, error_estimate=estimate)
-        previous, x, U, niter = estimate, fine, U_fine, fine_niter
+            return result(x, U, -1, text + diverging(), niter, *counts,
+                          error_estimate=estimate)
+        x, U, niter = fine, U_fine, fine_niter
 
 
 def result(t, U, status, message, niter, nfev, njev, t_eval=None, dense_output=True,
