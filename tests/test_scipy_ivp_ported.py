@@ -540,7 +540,9 @@ def test_events(path):
     their directions (+1 keeps only event 1, -1 only event 2); a terminal
     event 3 at t = 7.4 ends the run (status 1) with the interpolant still
     within 5 in scipy's norm; each event's state a zero of it; the same
-    zeros backwards over [8, 5].  scipy's y_events rows hold (y_0, y_1),
+    zeros backwards over [8, 5], with the directions (as t decreases: -1
+    keeps event 1, +1 event 2) and the terminal event.  scipy's y_events
+    rows hold (y_0, y_1),
     here (y,) and yp_events (y',)."""
     start = {(5.0, 8.0): (1.0 / 3.0, 2.0 / 45.0), (8.0, 5.0): (4.0 / 9.0, 5.0 / 162.0)}
 
@@ -581,6 +583,20 @@ def test_events(path):
     u, up = rational_exact(res.t_events[0][0])
     np.testing.assert_allclose([res.y_events[0][0, 0], res.yp_events[0][0, 0]], [u, up],
                                rtol=RTOL, atol=ATOL)
+    # Backwards: event 1 rises and event 2 falls as t decreases.
+    for direction, counts in ((-1.0, [1, 0]), (1.0, [0, 1])):
+        events = (rational_event(1, direction), rational_event(2, direction))
+        res = run((8.0, 5.0), *events)
+        assert res.status == 0 and [len(t) for t in res.t_events] == counts
+        assert [y.shape for y in res.y_events] == [(1, 1) if c else (0,) for c in counts]
+        zeros_are_events(res, events)
+    events = (rational_event(1), rational_event(2), rational_event(3, terminal=True))
+    res = run((8.0, 5.0), *events, dense_output=True)
+    assert res.status == 1 and [len(t) for t in res.t_events] == [0, 1, 1]
+    assert 7.3 < res.t_events[1][0] < 7.7 and 7.3 < res.t_events[2][0] < 7.5
+    zeros_are_events(res, events)
+    tc = np.linspace(res.t[-1], res.t[0])
+    assert np.all(scipy_error(tc, res.sol(tc)[0], res.sol(tc, 1)[0]) < 5)
 
 
 # At rtol 0.1 the steps are about 0.3, and the step-too-large check says so
