@@ -78,3 +78,27 @@ def test_false_alarms_and_misses_over_runs_of_known_error():
     assert accurate >= 25 and inaccurate >= 8
     assert false_alarms == 0
     assert misses <= 3
+
+
+def forced_damped(t, y, yp):
+    return -y - 0.1 * yp + np.cos(1.2 * t)
+
+
+def test_a_long_accurate_run_of_a_damped_problem_is_silent():
+    """y'' = -y - 0.1 y' + cos 1.2 t from rest over (0, 2000) at h = 0.05:
+    the error stays at about 1e-3 of the solution's size, while the local
+    errors summed over the 40,000 steps exceed 0.3 of it.  The equation
+    forgets an error in 1 / 0.05 = 20 time units, so the check counts the
+    steps of one memory (a hundredth of the run) and is silent; at h = 1
+    over (0, 30) (error 0.28 of the solution) it warns."""
+    res, flagged = warned(forced_damped, (0.0, 2000.0), 0.0, 0.0, 0.05)
+    amplitude = np.max(np.abs(res.y))
+    late = res.t > 1000.0            # the forced steady state, exact in closed form
+    omega = 1.2
+    denominator = (1.0 - omega ** 2) ** 2 + (0.1 * omega) ** 2
+    steady = ((1.0 - omega ** 2) * np.cos(omega * res.t) + 0.1 * omega * np.sin(omega * res.t)
+              ) / denominator
+    assert np.max(np.abs(res.y[0, late] - steady[late])) < 3e-3 * amplitude
+    assert not flagged
+    _, flagged = warned(lambda t, y, yp: -y - 0.1 * yp, (0.0, 30.0), 1.0, 0.0, 1.0)
+    assert flagged
