@@ -260,7 +260,9 @@ def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-6, max_
     OdeResult
         ``t`` (the final mesh), ``y``, ``yp``, ``ypp`` (m, k), ``sol`` (the
         spline), ``error_estimate`` (the estimated error of y on that
-        mesh, NaN with ``tol = inf``), ``niter`` (Newton iterations on the
+        mesh; NaN with ``tol = inf``, and when Newton failed on the mesh
+        that would have estimated it: the message then quotes the
+        estimates of the coarser meshes), ``niter`` (Newton iterations on the
         returned mesh), ``nfev`` and ``njev`` (every call, on every mesh
         solved), ``status`` (0: converged within ``tol``; -1: Newton failed,
         or the estimate exceeds ``tol`` at ``max_nodes``), ``message``,
