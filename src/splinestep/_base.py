@@ -202,27 +202,29 @@ def check_grid(t0, tf, h, knots, max_steps=MAX_STEPS):
     return direction * min(h, span), n, np.empty(0)
 
 
+def _tolerance(value, name, m):
+    """``value`` (a number or one per component) as a positive, finite (m,)
+    vector; anything else is a ValueError naming ``name``."""
+    array = _real_array(value, name)
+    if array.shape not in ((1,), (m,)) or np.ndim(value) > 1:
+        raise ValueError(f"{name} must be a number or an array of shape ({m},), "
+                         f"got shape {np.shape(value)}")
+    if not np.all(np.isfinite(array) & (array > 0)):
+        raise ValueError(f"{name} must be positive and finite, got {value!r}")
+    return np.array(np.broadcast_to(array, (m,)), dtype=float)
+
+
 def check_tolerances(rtol, atol, first_step, max_step, max_steps, m):
     """Validate the adaptive driver's settings; returns (rtol and atol as
     (m,) vectors, first_step (0 when chosen automatically), max_step,
     max_steps)."""
-    rtol_array = _real_array(rtol, "rtol")
-    if rtol_array.shape not in ((1,), (m,)) or np.ndim(rtol) > 1:
-        raise ValueError(f"rtol must be a number or an array of shape ({m},), "
-                         f"got shape {np.shape(rtol)}")
-    if not np.all(np.isfinite(rtol_array) & (rtol_array > 0)):
-        raise ValueError(f"rtol must be positive and finite, got {rtol!r}")
+    rtol_array = _tolerance(rtol, "rtol", m)
     if np.any(rtol_array < RTOL_FLOOR):  # as scipy's solve_ivp: float64 cannot reach it
         warnings.warn(f"At least one element of rtol is below {RTOL_FLOOR:g}, which double "
                       f"precision cannot reach; it is raised to {RTOL_FLOOR:g}", UserWarning,
                       stacklevel=3)
         rtol_array = np.maximum(rtol_array, RTOL_FLOOR)
-    atol_array = _real_array(atol, "atol")
-    if atol_array.shape not in ((1,), (m,)) or np.ndim(atol) > 1:
-        raise ValueError(f"atol must be a number or an array of shape ({m},), "
-                         f"got shape {np.shape(atol)}")
-    if not np.all(np.isfinite(atol_array) & (atol_array > 0)):
-        raise ValueError(f"atol must be positive and finite, got {atol!r}")
+    atol_array = _tolerance(atol, "atol", m)
     if first_step is None:
         first_step = 0.0
     elif not (is_real(first_step) and np.isfinite(first_step)
@@ -233,8 +235,7 @@ def check_tolerances(rtol, atol, first_step, max_step, max_steps, m):
         raise ValueError(f"max_step must be a positive number (inf: no limit), "
                          f"got {max_step!r}")
     max_steps = check_max_steps(max_steps)
-    return (np.array(np.broadcast_to(rtol_array, (m,)), dtype=float),
-            np.array(np.broadcast_to(atol_array, (m,)), dtype=float),
+    return (rtol_array, atol_array,
             float(first_step), float(max_step), int(max_steps))
 
 

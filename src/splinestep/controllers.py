@@ -130,7 +130,7 @@ def reversible(tf, eps, rho0, max_steps):
 
 
 @njit(cache=True)
-def first_size(ctrl, vectors, t0, y, yp):
+def first_size(ctrl, atol, rtol, t0, y, yp):
     """The size (positive) of the first step: for ERROR, ``first_step`` or
     scipy's rule of thumb, 1 % of |y| / |y'| in the scaled norm; for the
     others, unused (0)."""
@@ -144,7 +144,7 @@ def first_size(ctrl, vectors, t0, y, yp):
         d0 = 0.0
         d1 = 0.0
         for k in range(m):
-            scale = vectors.atol[k] + vectors.rtol[k] * abs(y[k])
+            scale = atol[k] + rtol[k] * abs(y[k])
             d0 += (y[k] / scale) ** 2
             d1 += (yp[k] / scale) ** 2
         d0 = np.sqrt(d0 / m)
@@ -191,9 +191,10 @@ def propose(ctrl, t0, t, attempts, accepted, size, rho):
 @njit(cache=True)
 def error_norm(dt, dt_prev, jerk_new, jerk_old, y, yp, y_new, yp_new, rtol, atol, span):
     """The scaled RMS norm of the estimated local errors per unit step,
-    times ``span``, of the step of size ``dt`` whose third derivative is ``jerk_new``, after the interval
-    of size ``dt_prev`` with ``jerk_old`` (``dt_prev`` = 0 at the start,
-    where ``jerk_old`` is y''' at the knot itself)."""
+    times ``span``, of the step of size ``dt`` whose third derivative is
+    ``jerk_new``, after the interval of size ``dt_prev`` with ``jerk_old``
+    (``dt_prev`` = 0 at the start, where ``jerk_old`` is y''' at the knot
+    itself)."""
     m = y_new.shape[0]
     total = 0.0
     per_unit = span / abs(dt)

@@ -313,7 +313,7 @@ def _specialised(KIND, CONTROL, MODE):
         nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
         direction = 1.0 if ctrl.tf > t0 else -1.0
         status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
-        n_knots, size, rho = 1, first_size(ctrl, vectors, t0, y0, yp0), 0.0
+        n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
         dt_prev, after_reject = 0.0, False
         if status == OK:
             n_eval = _fill_eval(t_eval, 0, t0, t0, 0.0, kind, vec, E, direction)

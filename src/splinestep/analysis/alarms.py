@@ -17,6 +17,7 @@ from numba import njit
 
 from .. import problems as _problems
 from .. import solve
+from ..problems._problem import first_order
 from ..problems.nonlinear import duffing, pendulum, rational
 
 
@@ -34,11 +35,8 @@ def _radau(fun, args, t_span, y0, yp0):
     """A dense Radau solution (rtol = atol = 1e-12) of the first-order form."""
     from scipy.integrate import solve_ivp
     m = y0.size
-
-    def first_order(s, u):
-        return np.concatenate([u[m:], np.atleast_1d(fun.py_func(s, u[:m], u[m:], *args))])
-    sol = solve_ivp(first_order, t_span, np.r_[y0, yp0], method="Radau", rtol=1e-12,
-                    atol=1e-12, dense_output=True)
+    sol = solve_ivp(first_order(fun, args, m), t_span, np.r_[y0, yp0], method="Radau",
+                    rtol=1e-12, atol=1e-12, dense_output=True)
     return lambda t: sol.sol(t)[:m]
 
 

@@ -14,6 +14,7 @@ import numpy as np
 
 from .. import problems as _problems
 from .. import solve
+from ..problems._problem import first_order
 from ..problems.nonlinear import duffing, pendulum, rational
 
 # atol as a fraction of rtol in the study (the solutions are of order 1).
@@ -40,16 +41,6 @@ def scales(problem):
     return float(np.max(np.abs(y))), float(np.max(np.abs(yp)))
 
 
-def _first_order(problem):
-    """The problem as u' = (y', F) for scipy (plain Python)."""
-    m = problem.y0.size
-    f = getattr(problem.fun, "py_func", problem.fun)
-
-    def first_order(t, u):
-        return np.concatenate([u[m:], np.atleast_1d(f(t, u[:m], u[m:], *problem.args))])
-    return first_order
-
-
 def runs(problem, rtols, methods=("spline", "RK45", "DOP853")):
     """One row per method and rtol: method, rtol, nfev, status, the final
     errors of y and y' (largest over components), the scale of y
@@ -58,6 +49,7 @@ def runs(problem, rtols, methods=("spline", "RK45", "DOP853")):
     from scipy.integrate import solve_ivp
     t0, tf = problem.t_span
     m = problem.y0.size
+    system = first_order(problem.fun, problem.args, m)
     ref_y, ref_yp = (r[:, 0] for r in problem.reference(np.array([tf])))
     scale_y, scale_yp = scales(problem)
     rows = []
@@ -69,9 +61,8 @@ def runs(problem, rtols, methods=("spline", "RK45", "DOP853")):
                             atol=atol, args=problem.args)
                 y, yp, nfev, status = res.y[:, -1], res.yp[:, -1], res.nfev, res.status
             else:
-                sol = solve_ivp(_first_order(problem), problem.t_span,
-                                np.r_[problem.y0, problem.yp0], method=method, rtol=rtol,
-                                atol=atol)
+                sol = solve_ivp(system, problem.t_span, np.r_[problem.y0, problem.yp0],
+                                method=method, rtol=rtol, atol=atol)
                 y, yp, nfev, status = sol.y[:m, -1], sol.y[m:, -1], sol.nfev, sol.status
             error = float(np.max(np.abs(y - ref_y)))
             error_yp = float(np.max(np.abs(yp - ref_yp)))

@@ -10,6 +10,17 @@ REFERENCE_RTOL = 1e-13
 REFERENCE_ATOL = 1e-14
 
 
+def first_order(fun, args, m):
+    """y'' = fun(t, y, y', *args) with m components as the first-order
+    system u' = (y', fun) of u = (y, y'), for scipy's ``solve_ivp`` (a
+    compiled ``fun`` is called through its plain Python source)."""
+    f = getattr(fun, "py_func", fun)
+
+    def system(t, u):
+        return np.concatenate([u[m:], np.atleast_1d(f(t, u[:m], u[m:], *args))])
+    return system
+
+
 @dataclass(frozen=True)
 class Problem:
     """A second-order initial value problem y'' = fun(t, y, y', *args).
@@ -85,13 +96,8 @@ class Problem:
         if self.exact is not None:
             return self.exact(t)
         m = self.y0.size
-        f = self.fun.py_func if hasattr(self.fun, "py_func") else self.fun
-
-        def first_order(s, u):
-            return np.concatenate([u[m:], f(s, u[:m], u[m:], *self.args)])
-
         from scipy.integrate import solve_ivp   # here: scipy takes 0.3 s to import
-        sol = solve_ivp(first_order, (self.t_span[0], t[-1]),
+        sol = solve_ivp(first_order(self.fun, self.args, m), (self.t_span[0], t[-1]),
                         np.concatenate([self.y0, self.yp0]), method="DOP853",
                         t_eval=t, rtol=REFERENCE_RTOL, atol=REFERENCE_ATOL)
         if not sol.success:
