@@ -115,3 +115,42 @@ def test_a_plain_control_is_not_frozen_into_the_cache(tmp_path):
         assert out.returncode == 0, out.stderr[-2000:]
         counts.append(int(out.stdout.split()[-1]))
     assert counts[0] == counts[1] > 0
+
+
+def test_two_processes_saving_two_signatures_at_once_keep_each_its_own_code(tmp_path, monkeypatch):
+    """numba's save reads the index, picks a free data-file number, writes
+    the index, then the data, with no lock: two writers of one function's
+    cache that both read the index before either writes it pick the same
+    number, and one signature's entry is lost or names the other's code
+    (numba issue #4807, a segfault on the next load).  Here the window after
+    reading the index is held open while a second writer (a thread with its
+    own lock handle, as another process has) saves another key; each key
+    must load its own data."""
+    import threading
+    import time
+
+    from numba.core import caching
+
+    numba_load_index = caching.IndexDataCacheFile._load_index
+
+    def slow_load_index(self):
+        overloads = numba_load_index(self)
+        time.sleep(0.2)
+        return overloads
+
+    monkeypatch.setattr(caching.IndexDataCacheFile, "_load_index", slow_load_index)
+
+    def cache_file():
+        return caching.IndexDataCacheFile(str(tmp_path), "loop", _compile.PACKAGE_STAMP)
+
+    def save(key):
+        cache_file().save(key, ("code for", key))
+
+    writers = [threading.Thread(target=save, args=(key,)) for key in ("a", "b")]
+    for writer in writers:
+        writer.start()
+        time.sleep(0.05)
+    for writer in writers:
+        writer.join()
+    assert [cache_file().load(key) for key in ("a", "b")] == [("code for", "a"),
+                                                              ("code for", "b")]

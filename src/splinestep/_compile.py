@@ -81,6 +81,58 @@ class _UserWide(_PackageStamp, caching.UserWideCacheLocator):
 # Tried first, in numba's own order; other modules fall through to numba's.
 caching.CacheImpl._locator_classes[:0] = [_UserProvided, _InTree, _UserWide]
 
+
+# numba saves a cache entry by reading the function's index, choosing a free
+# data-file number, writing the index and then the data, with no lock between
+# processes (numba issue #4807).  Two processes compiling the same loop for
+# two signatures at once (pytest's workers, notebooks run side by side) can
+# both choose number 1: the index then names one signature and the file holds
+# the other's machine code, and the next process that loads it calls code
+# compiled for other argument types (a segmentation fault).  For this
+# package's functions, saving and loading hold a lock on the index, so each
+# is one step as other processes see it.  (No lock where the platform has
+# no fcntl.)
+try:
+    import fcntl
+except ImportError:   # pragma: no cover
+    fcntl = None
+
+
+@contextlib.contextmanager
+def _index_locked(cache_file, mode):
+    mine = fcntl is not None and cache_file._source_stamp == PACKAGE_STAMP
+    try:
+        handle = open(cache_file._index_path + ".lock", "a") if mine else None
+    except OSError:   # no cache folder yet (nothing to load) or not writable
+        handle = None
+    if handle is None:
+        yield
+        return
+    with handle:
+        fcntl.flock(handle, mode)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)
+
+
+_numba_save = caching.IndexDataCacheFile.save
+_numba_load = caching.IndexDataCacheFile.load
+
+
+def _save_locked(self, key, data):
+    with _index_locked(self, fcntl.LOCK_EX if fcntl else None):
+        return _numba_save(self, key, data)
+
+
+def _load_locked(self, key):
+    with _index_locked(self, fcntl.LOCK_SH if fcntl else None):
+        return _numba_load(self, key)
+
+
+caching.IndexDataCacheFile.save = _save_locked
+caching.IndexDataCacheFile.load = _load_locked
+
 VECTOR = types.float64[::1]
 FLOAT = types.float64
 INT = types.int64
