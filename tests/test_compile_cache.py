@@ -48,9 +48,9 @@ def test_a_second_process_and_a_renamed_module_load_the_loops_from_the_cache(tmp
     run_in_new_process(tmp_path, "first_module")  # compiles, if no process has before
     for module in ("first_module", "renamed_module"):
         loops, hits, misses = run_in_new_process(tmp_path, module)
-        # solve and rk4 run the one driver, specialised for each method
-        # (driver.driver_for) and loaded from the cache for this signature
-        assert loops == 2 and hits == 2 and misses == 0
+        # solve and rk4 run the one driver (one loop for both), loaded from
+        # the cache for this signature
+        assert loops == 1 and hits == 1 and misses == 0
 
 
 def test_loop_signatures_name_no_python_function():
@@ -69,7 +69,7 @@ def test_a_change_to_any_file_of_the_package_changes_every_cache_stamp(tmp_path,
     """numba's own stamp covers a function's file only; ours covers the
     package, so a constant changed in _base.py invalidates driver.py's loop."""
     import shutil
-    loop = splinestep.driver.driver_for(0, 0)
+    loop = splinestep.driver._drive
     locator = _compile._InTree.from_function(loop, loop.__code__.co_filename)
     assert locator.get_source_stamp() == _compile.PACKAGE_STAMP
     copy = tmp_path / "splinestep"

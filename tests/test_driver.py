@@ -168,7 +168,7 @@ def test_the_driver_settings_are_records():
     step = driver.method(driver.RK4)
     assert step.kind == driver.RK4 and step.weights.shape == (1,)
     assert all(np.isscalar(value) for value in step.iteration)
-    assert driver.driver_for(driver.SPLINE, controllers.CONSTANT).__code__.co_argcount == 10
+    assert driver._drive.__code__.co_argcount == 10
 
 
 def test_unknown_options_are_named():

@@ -31,11 +31,15 @@ A new method is a new kind here and one branch of the step dispatch in
 Settings travel as named tuples (``step.Method`` with its ``Iteration``,
 ``controllers.Control`` with its ``Vectors``, :class:`Saving`), and the loop
 returns one (:class:`Run`), so the compiled code has ten named arguments
-instead of twenty positional ones; numba compiles and caches the loop once
-per method kind, mode and controller kind (:func:`driver_for`: one source,
-the three kinds compile-time constants, so each loop holds only its own
-branches) and per type of ``fun``, ``args``, ``jac`` and ``control``
-(:mod:`splinestep._compile`).  The records the sweep's loop reads at every
+instead of twenty positional ones.  The method, its iteration and the
+controller are chosen at run time, so numba compiles (and caches) one loop
+per type of ``fun``, ``args``, ``jac`` and ``control``
+(:mod:`splinestep._compile`), whatever the path: a new type of ``fun`` costs
+one compilation, not one per method and controller, and no two compiled
+loops share a name (loops specialised by closure constants share their
+symbol names, which a process loading two of them from the disk cache, each
+compiled by another process, may link to the wrong one).  The run-time
+choice costs nothing measurable per evaluation (``make bench``).  The records the sweep's loop reads at every
 step hold numbers only (a composition's weights travel in ``Method`` to
 its step), and its vectors live in one buffer: an array passed
 into a helper inside the loop, or an array rebound inside it (the knot
@@ -271,132 +275,118 @@ def _start(ctrl, saving, t0, y0, yp0, ypp0):
     return vec, T, K, RHO, np.empty((3, saving.t_eval.shape[0], m)), acc
 
 
-def driver_for(kind, control, mode=FIXED_POINT):
-    """The driver loop for steps of method ``kind`` (SPLINE, COMPOSED, RK4,
-    VERLET), solved by ``mode`` (the sweep or Newton: :mod:`splinestep.step`),
-    and a controller of kind ``control`` (:mod:`splinestep.controllers`):
-    one source, specialised by the three constants, so that numba compiles
-    (and caches) only the branches of that method and controller, and the
-    fixed-step sweep runs without the other methods' tests in its loop."""
-    return _specialised(int(kind), int(control), int(mode) if kind == SPLINE else FIXED_POINT)
-
-
-@functools.cache
-def _specialised(KIND, CONTROL, MODE):
-    """:func:`_drive` for one method, mode and controller (numba reads the
-    closure constants at compile time and prunes the other branches before
-    it types them; its cache keys the compiled loop by them)."""
-    SPLINE_STEPS = KIND <= COMPOSED
-
-    def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving, start):
-        """Step from t0 to ctrl.tf (module docstring); ``start`` is (t0,
-        y0, y'0, F there), F evaluated (and counted) by the front door,
-        ``vectors`` the controller's arrays
-        (:class:`splinestep.controllers.Vectors`).  Returns a :class:`Run`.
-        The hot path (the sweep) keeps its vectors in one buffer and its
-        settings in records of numbers: every array passed into the loop's
-        helpers costs reference counting at every step."""
-        t0, y0, yp0, ypp0 = start
-        knots, atol, rtol = vectors.knots, vectors.atol, vectors.rtol
-        m, it, kind, t_eval = y0.shape[0], method.iteration, dense_kind(method.kind), saving.t_eval
-        vec, T, K, RHO, E, acc = _start(ctrl, saving, t0, y0, yp0, ypp0)
-        y, yp, ypp, y_new, yp_new, z = vec[_Y], vec[_YP], vec[_YPP], vec[_Y1], vec[_YP1], vec[_Z]
-        kept = step_state(m, max(np.max(method.slots), np.max(method.inside_slots)) + 1)
-        stage, ev_out = np.empty((4, m)), np.empty((3, m))
-        span = (min(t0, ctrl.tf), max(t0, ctrl.tf))
-        work, velocity, jerk1, jerk0 = kept.work, stage[0], vec[_JERK1], vec[_JERK]
-        # The records' numbers as plain locals: a field read from a record that
-        # holds arrays is not free inside the loop.
-        store, events = saving.store, saving.events
-        s = State(y, yp, ypp, y_new, yp_new, z)
-        sub = State(np.empty(m), np.empty(m), np.empty(m), y_new, yp_new, z)
-        nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
-        direction = 1.0 if ctrl.tf > t0 else -1.0
-        status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
-        n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
-        dt_prev, after_reject = 0.0, False
-        if status == OK:
-            n_eval = _fill_eval(t_eval, 0, t0, t0, 0.0, kind, vec, E, direction)
-            if CONTROL == ERROR:
-                status, nfev = _taylor_jerk(fun, args, t0, ctrl.tf, vec), nfev + 1
-            if CONTROL == REVERSIBLE:
-                rho = ctrl.rho0 + 0.5 * direction * ctrl.eps * control(t0, y, yp, *control_args)
-        # The knot arrays grow outside the stepping loop: arrays rebound
-        # inside it would cost reference counting at every step.
-        done = False
-        while status == OK and not done:
-            if store and n_knots == T.shape[0]:
-                T, K, RHO = _grow(T, K, RHO)
-            while status == OK and not (store and n_knots == T.shape[0]):
-                status, t_new, done = propose(ctrl, t0, t, attempts, accepted, size, rho)
-                if done or status != OK:
-                    fail_step = attempts + 1
-                    break
-                if CONTROL == CONSTANT and knots.shape[0] > 0:
-                    t_new = knots[accepted + 1]
-                dt = t_new - t
-                if KIND == SPLINE and MODE == FIXED_POINT:   # the hot path, inlined
-                    status, fe, je, ni = sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new,
-                                                    yp_new, it, work)
-                elif KIND == SPLINE:
-                    status, fe, je, ni = newton_call(fun, args, jac, t_new, dt, s, it, kept, 0)
-                elif KIND == COMPOSED:
-                    status, fe, je, ni = composed_step(fun, args, jac, t, t_new, s, method, kept,
-                                                       sub, span)
-                elif KIND == RK4:
-                    status, fe, je, ni = rk4_step(fun, args, t, t_new, dt, y, yp, ypp, y_new,
-                                                  yp_new, z, stage)
-                else:
-                    status, fe, je, ni = verlet_step(fun, args, t_new, dt, y, yp, ypp, y_new,
-                                                     yp_new, z, velocity)
-                nfev, njev, niter, attempts, last_status = (nfev + fe, njev + je, niter + ni,
-                                                            attempts + 1, status)
-                if SPLINE_STEPS:
-                    for k in range(m):
-                        jerk1[k] = (z[k] - ypp[k]) / dt
-                if CONTROL == ERROR:
-                    keep, size = judge(ctrl, atol, rtol, status, dt, dt_prev, jerk1, jerk0, y, yp,
-                                       y_new, yp_new, after_reject)
-                    after_reject = not keep
-                    if not keep:
-                        n_rejected += int(status == OK)
-                        n_failed += int(status != OK)
-                        status = OK
-                        continue
-                elif status != OK:
-                    fail_step = attempts
-                    break
-                if SPLINE_STEPS:
-                    _estimate(acc, vec, dt, dt_prev, t, accepted > 0)
-                stop, t_end = 0, t_new
-                if events >= 0.0:
-                    stop, t_ev = _compile.python_events(events, t, t_new, kind, vec[:6], ev_out)
-                    t_end = t_ev if stop == 1 else t_new
-                if n_eval < t_eval.shape[0] and direction * (t_eval[n_eval] - t_end) <= 0.0:
-                    n_eval = _fill_eval(t_eval, n_eval, t, t_end, dt, kind, vec, E, direction)
-                if stop == 2:
-                    status, fail_step = EVENT_FAILED, attempts
-                    break
-                if stop == 1 and t_end == t:
-                    # A terminal zero at the step's start (where the last
-                    # step ended on it to rounding): the run ends at its
-                    # last knot, not at a second knot of the same time.
-                    status = TERMINAL_EVENT
-                    break
-                _advance(vec, ev_out, stop == 1)
-                t, dt_prev, accepted = t_end, dt, accepted + 1
-                if store:
-                    _put(T, K, RHO, n_knots, t, vec, rho)
-                    n_knots += 1
-                if stop == 1:
-                    status = TERMINAL_EVENT
-                elif CONTROL == REVERSIBLE:
-                    rho += direction * ctrl.eps * control(t, y, yp, *control_args)
-        return Run(status, last_status, -1 if status == OK else fail_step, t, t_new, nfev, njev,
-                   niter, attempts, accepted, n_rejected, n_failed, n_knots, n_eval, T, K, RHO, E,
-                   acc, vec[_Y_ERR].copy(), vec[_YP_ERR].copy(), y.copy(), yp.copy())
-
-    return _drive
+def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving, start):
+    """Step from t0 to ctrl.tf (module docstring); ``start`` is (t0,
+    y0, y'0, F there), F evaluated (and counted) by the front door,
+    ``vectors`` the controller's arrays
+    (:class:`splinestep.controllers.Vectors`).  Returns a :class:`Run`.
+    The hot path (the sweep) keeps its vectors in one buffer and its
+    settings in records of numbers: every array passed into the loop's
+    helpers costs reference counting at every step."""
+    # The step and the controller are chosen here, at run time: one compiled
+    # loop serves every method and controller for a given type of fun.
+    step_kind, control_kind = method.kind, ctrl.kind
+    sweep = step_kind == SPLINE and method.iteration.mode == FIXED_POINT
+    spline_steps = step_kind <= COMPOSED
+    t0, y0, yp0, ypp0 = start
+    knots, atol, rtol = vectors.knots, vectors.atol, vectors.rtol
+    m, it, kind, t_eval = y0.shape[0], method.iteration, dense_kind(method.kind), saving.t_eval
+    vec, T, K, RHO, E, acc = _start(ctrl, saving, t0, y0, yp0, ypp0)
+    y, yp, ypp, y_new, yp_new, z = vec[_Y], vec[_YP], vec[_YPP], vec[_Y1], vec[_YP1], vec[_Z]
+    kept = step_state(m, max(np.max(method.slots), np.max(method.inside_slots)) + 1)
+    stage, ev_out = np.empty((4, m)), np.empty((3, m))
+    span = (min(t0, ctrl.tf), max(t0, ctrl.tf))
+    work, velocity, jerk1, jerk0 = kept.work, stage[0], vec[_JERK1], vec[_JERK]
+    # The records' numbers as plain locals: a field read from a record that
+    # holds arrays is not free inside the loop.
+    store, events = saving.store, saving.events
+    s = State(y, yp, ypp, y_new, yp_new, z)
+    sub = State(np.empty(m), np.empty(m), np.empty(m), y_new, yp_new, z)
+    nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
+    direction = 1.0 if ctrl.tf > t0 else -1.0
+    status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
+    n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
+    dt_prev, after_reject = 0.0, False
+    if status == OK:
+        n_eval = _fill_eval(t_eval, 0, t0, t0, 0.0, kind, vec, E, direction)
+        if control_kind == ERROR:
+            status, nfev = _taylor_jerk(fun, args, t0, ctrl.tf, vec), nfev + 1
+        if control_kind == REVERSIBLE:
+            rho = ctrl.rho0 + 0.5 * direction * ctrl.eps * control(t0, y, yp, *control_args)
+    # The knot arrays grow outside the stepping loop: arrays rebound
+    # inside it would cost reference counting at every step.
+    done = False
+    while status == OK and not done:
+        if store and n_knots == T.shape[0]:
+            T, K, RHO = _grow(T, K, RHO)
+        while status == OK and not (store and n_knots == T.shape[0]):
+            status, t_new, done = propose(ctrl, t0, t, attempts, accepted, size, rho)
+            if done or status != OK:
+                fail_step = attempts + 1
+                break
+            if control_kind == CONSTANT and knots.shape[0] > 0:
+                t_new = knots[accepted + 1]
+            dt = t_new - t
+            if sweep:   # the hot path, inlined
+                status, fe, je, ni = sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new,
+                                                yp_new, it, work)
+            elif step_kind == SPLINE:
+                status, fe, je, ni = newton_call(fun, args, jac, t_new, dt, s, it, kept, 0)
+            elif step_kind == COMPOSED:
+                status, fe, je, ni = composed_step(fun, args, jac, t, t_new, s, method, kept,
+                                                   sub, span)
+            elif step_kind == RK4:
+                status, fe, je, ni = rk4_step(fun, args, t, t_new, dt, y, yp, ypp, y_new,
+                                              yp_new, z, stage)
+            else:
+                status, fe, je, ni = verlet_step(fun, args, t_new, dt, y, yp, ypp, y_new,
+                                                 yp_new, z, velocity)
+            nfev, njev, niter, attempts, last_status = (nfev + fe, njev + je, niter + ni,
+                                                        attempts + 1, status)
+            if spline_steps:
+                for k in range(m):
+                    jerk1[k] = (z[k] - ypp[k]) / dt
+            if control_kind == ERROR:
+                keep, size = judge(ctrl, atol, rtol, status, dt, dt_prev, jerk1, jerk0, y, yp,
+                                   y_new, yp_new, after_reject)
+                after_reject = not keep
+                if not keep:
+                    n_rejected += int(status == OK)
+                    n_failed += int(status != OK)
+                    status = OK
+                    continue
+            elif status != OK:
+                fail_step = attempts
+                break
+            if spline_steps:
+                _estimate(acc, vec, dt, dt_prev, t, accepted > 0)
+            stop, t_end = 0, t_new
+            if events >= 0.0:
+                stop, t_ev = _compile.python_events(events, t, t_new, kind, vec[:6], ev_out)
+                t_end = t_ev if stop == 1 else t_new
+            if n_eval < t_eval.shape[0] and direction * (t_eval[n_eval] - t_end) <= 0.0:
+                n_eval = _fill_eval(t_eval, n_eval, t, t_end, dt, kind, vec, E, direction)
+            if stop == 2:
+                status, fail_step = EVENT_FAILED, attempts
+                break
+            if stop == 1 and t_end == t:
+                # A terminal zero at the step's start (where the last
+                # step ended on it to rounding): the run ends at its
+                # last knot, not at a second knot of the same time.
+                status = TERMINAL_EVENT
+                break
+            _advance(vec, ev_out, stop == 1)
+            t, dt_prev, accepted = t_end, dt, accepted + 1
+            if store:
+                _put(T, K, RHO, n_knots, t, vec, rho)
+                n_knots += 1
+            if stop == 1:
+                status = TERMINAL_EVENT
+            elif control_kind == REVERSIBLE:
+                rho += direction * ctrl.eps * control(t, y, yp, *control_args)
+    return Run(status, last_status, -1 if status == OK else fail_step, t, t_new, nfev, njev,
+               niter, attempts, accepted, n_rejected, n_failed, n_knots, n_eval, T, K, RHO, E,
+               acc, vec[_Y_ERR].copy(), vec[_YP_ERR].copy(), y.copy(), yp.copy())
 
 
 def method(kind, mode=FIXED_POINT, n_iter=1, until_converged=True, tol=1e-12, reuse=True,
@@ -423,8 +413,7 @@ def run(path, fun, jac, args, method, controller, output, start, control=None):
             _compile.scalar_callable(path, control, args) as (loop_control, control_args), \
             _compile.event_tracker(events) as key:
         saving = Saving(t_eval, bool(store), key)
-        drive = driver_for(method.kind, ctrl.kind, method.iteration.mode)
-        loop = _compile.compiled_driver(drive, loop_fun, loop_jac, loop_args, loop_control,
+        loop = _compile.compiled_driver(_drive, loop_fun, loop_jac, loop_args, loop_control,
                                         control_args, method, ctrl, vectors, saving, start)
         out = loop(loop_fun, loop_args, loop_jac, loop_control, control_args, method, ctrl,
                    vectors, saving, start)
