@@ -93,7 +93,7 @@ outputs.say(
 
 # %%
 rows = []
-for x in np.linspace(0.05, 3.4, 40):
+for x in np.geomspace(0.05, 3.4, 48):   # evenly spaced on the log axis below
     problem = problems.harmonic(omega=1.0, t_span=(0.0, 400 * x), h=x)
     with warnings.catch_warnings(record=True) as caught:  # these steps are meant to be large
         warnings.simplefilter("always")
@@ -130,43 +130,40 @@ outputs.say(
     f"{400 * flagged.omega_h.min() ** 3 / 24:.2f} at $\\omega h = "
     f"{flagged.omega_h.min():.2f}$.  The warnings are collected here instead of printed.")
 
-fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 6.2), sharex=True)
+fig, (ax, bx) = plt.subplots(1, 2, figsize=(outputs.WIDTH, 3.9), sharex=True)
+ticks = [0.05, 0.1, 0.2, 0.5, 1, 2, 3]
 # The period error T_h / T - 1 = omega h / (Omega h) - 1
-ax.loglog(phase.omega_h, phase.period_ratio_measured - 1, "o", markersize=5, color="C0",
-          label="cubic spline, measured")
 ax.loglog(phase.omega_h, phase.period_ratio_theory - 1, "-", color="k", linewidth=1,
-          label="closed form ($\\beta = 1/6$)")
+          label="closed form")
 ax.loglog(phase.omega_h, phase.omega_h ** 2 / 24, "--", color="0.5",
-          label="leading term $(\\omega h)^2/24$")
-ax.set_ylabel("period error\n$T_h / T - 1 = \\omega h / (\\Omega h) - 1$")
-ax.set_title("Cubic spline on $y'' = -\\omega^2 y$: period error", loc="left")
-ax.axvline(np.sqrt(6), color="0.5", linestyle=":", linewidth=1.5)
-ax.axvline(np.sqrt(12), color="C0", linestyle=":", linewidth=1.5)
-ax.text(np.sqrt(6) * 0.97, 2e-4, "fixed-point\nsweep limit $\\sqrt{6}$", ha="right",
-        fontsize=outputs.MIN_FONT)
-ax.text(np.sqrt(12) * 0.97, 3e-3, "spline\nstability\nlimit $\\sqrt{12}$", ha="right",
-        fontsize=outputs.MIN_FONT, color="C0")
-ax.legend(loc="upper left")
-bx.semilogx(phase.omega_h, phase.amplitude_factor_spline, "o", markersize=5, color="C0",
-            label="cubic spline, measured")
-bx.semilogx(phase.omega_h, phase.amplitude_factor_rk4, "s", markersize=5, color="C3",
-            label="RK4, measured")
+          label="$(\\omega h)^2/24$")
+ax.loglog(phase.omega_h, phase.period_ratio_measured - 1, "o", markersize=3.5, color="C0",
+          label="spline, measured")
+ax.set_ylabel("period error $T_h / T - 1$")
+ax.set_title("Spline: period error", loc="left")
 bx.semilogx(phase.omega_h, phase.amplitude_factor_rk4_theory, "-", color="C3", linewidth=1,
             label="RK4, $|R(i\\omega h)|$")
+bx.semilogx(phase.omega_h, phase.amplitude_factor_rk4, "s", markersize=5, color="C3",
+            markerfacecolor="none", label="RK4, measured")
+bx.semilogx(phase.omega_h, phase.amplitude_factor_spline, "o", markersize=3.5, color="C0",
+            label="spline, measured")
 bx.set_yscale("log")
 bx.set_ylim(0.4, 5)
 bx.set_yticks([0.5, 1, 2, 4], ["0.5", "1", "2", "4"])
 bx.yaxis.set_minor_formatter(plt.NullFormatter())
-bx.set_ylabel("amplitude factor\nper step $\\rho$")
-bx.set_xlabel("$\\omega h$ (step times angular frequency)")
-bx.set_title("Amplitude factor per step: the spline against RK4", loc="left")
-bx.axvline(2 * np.sqrt(2), color="C3", linestyle=":", linewidth=1.5)
-bx.axvline(np.sqrt(12), color="C0", linestyle=":", linewidth=1.5)
-bx.text(2 * np.sqrt(2) * 0.97, 1.9, "RK4 stability\nlimit $2\\sqrt{2}$", ha="right",
-        fontsize=outputs.MIN_FONT, color="C3")
-bx.text(np.sqrt(12) * 0.97, 3.6, "spline stability limit $\\sqrt{12}$", ha="right",
-        va="bottom", fontsize=outputs.MIN_FONT, color="C0")
-bx.legend(loc="upper left")
+bx.set_ylabel("amplitude factor per step $\\rho$")
+bx.set_title("Amplitude per step: spline and RK4", loc="left")
+# The limits as dotted vertical lines, named in the legends.
+for axis, limits in ((ax, [(np.sqrt(6), "0.5", "sweep limit $\\sqrt{6}$"),
+                           (np.sqrt(12), "C0", "stability limit $\\sqrt{12}$")]),
+                     (bx, [(2 * np.sqrt(2), "C3", "RK4 limit $2\\sqrt{2}$"),
+                           (np.sqrt(12), "C0", "spline limit $\\sqrt{12}$")])):
+    for x, colour, text in limits:
+        axis.axvline(x, color=colour, linestyle=":", linewidth=1.5, label=text)
+    axis.set_xticks(ticks, [f"{t:g}" for t in ticks])
+    axis.xaxis.set_minor_formatter(plt.NullFormatter())
+    axis.set_xlabel("$\\omega h$ (step × angular frequency)")
+    axis.legend(loc="upper left")
 outputs.save_figure(fig, "method-phase-error")
 
 # %% [markdown]

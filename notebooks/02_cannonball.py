@@ -51,7 +51,7 @@ outputs.say(
 
 # %%
 rows = []
-fig, axes = plt.subplots(2, 2, figsize=(outputs.WIDTH, 6.4))
+fig, axes = plt.subplots(2, 2, figsize=(outputs.WIDTH, 5.0))
 separation = {}
 for ax, mu in zip(axes.flat, MUS):
     problem = problems.cannonball(mu)
@@ -86,8 +86,8 @@ for ax in axes[1]:
 for ax in axes[:, 0]:
     ax.set_ylabel("$y$ (launch radius = 1)")
 handles, labels = axes[0, 0].get_legend_handles_labels()
-fig.legend(handles, labels, loc="outside upper center", ncol=2, frameon=False,
-           title="Newton's cannonball, $t \\in [0, 50]$, $\\Delta t = 0.01$", title_fontsize=12)
+fig.legend(handles, labels, loc="outside right upper", frameon=False,
+           title="Newton's cannonball,\n$t \\in [0, 50]$, $\\Delta t = 0.01$", title_fontsize=11)
 outputs.save_data(pd.concat(rows), "cannonball-trajectories")
 outputs.save_figure(fig, "cannonball-trajectories")
 
@@ -125,10 +125,10 @@ for mu in MUS:
             "position_error": np.hypot(*(res.y - exact))}))
 errors = pd.concat(errors, ignore_index=True)
 
-fig, axes = plt.subplots(3, 2, figsize=(outputs.WIDTH, 7.2), sharex=True, sharey="row")
-columns = {"energy_error": "energy error\n$|H(t) - H(0)|$",
-           "momentum_error": "angular-momentum\nerror $|M(t) - M(0)|$",
-           "position_error": "position error\n$|\\mathbf{x} - \\mathbf{x}_{\\rm exact}|$"}
+fig, axes = plt.subplots(3, 2, figsize=(outputs.WIDTH, 5.0), sharex=True, sharey="row")
+columns = {"energy_error": "energy\n$|H(t) - H(0)|$",
+           "momentum_error": "ang. momentum\n$|M(t) - M(0)|$",
+           "position_error": "position\n$|\\mathbf{x} - \\mathbf{x}_{\\rm exact}|$"}
 MU_MARKERS = {0.4: "o", 0.5: "s", 0.6: "^", 1.0: "D"}
 for row, (column, label) in zip(axes, columns.items()):
     for ax, method in zip(row, ("spline", "rk4")):
@@ -142,23 +142,22 @@ for row, (column, label) in zip(axes, columns.items()):
     values = errors[column][errors.t > 0]
     low = errors[errors.t > 0].groupby(["mu", "method"])[column].quantile(0.1).min() / 3
     row[0].set_ylim(low, 3 * values.max())
-    row[0].yaxis.set_major_locator(plt.LogLocator(numticks=6))
+    row[0].yaxis.set_major_locator(plt.LogLocator(numticks=4))
     row[0].set_ylabel(label)
     if values.max() > 1e-3:
         for ax in row:
             ax.axhline(1e-3, color="k", linewidth=1.2, linestyle="--")
         row[1].text(49, 1.4e-3, "report's bound $10^{-3}$", ha="right", va="bottom",
                     fontsize=outputs.MIN_FONT)
-axes[0, 0].set_title("cubic spline")
-axes[0, 1].set_title("RK4")
+axes[0, 0].set_title("cubic spline, $\\Delta t = 0.01$")
+axes[0, 1].set_title("RK4, $\\Delta t = 0.01$")
 for ax in axes[-1]:
     ax.set_xlabel("time $t$")
 from matplotlib.lines import Line2D  # noqa: E402
 legend = [Line2D([], [], color=outputs.MU_COLORS[mu], marker=MU_MARKERS[mu], markersize=4.5,
                  label=f"$\\mu = {mu:g}$ ({problems.ORBIT_TYPES[mu]})") for mu in MUS]
 fig.legend(handles=legend, loc="outside upper center", ncol=4, columnspacing=1.0,
-           handlelength=1.8, title="Cannonball error histories, $\\Delta t = 0.01$",
-           title_fontsize=12, frameon=False)
+           handlelength=1.8, frameon=False)
 outputs.save_data(errors.iloc[::5], "cannonball-error-histories")
 outputs.save_figure(fig, "cannonball-error-histories")
 
@@ -285,7 +284,7 @@ for name, (exact_ratio, tolerance) in closed.items():
     print(f"{name}: sampled {value[name]:.3f}, closed form {exact_ratio:.3f}")
     assert abs(value[name] / exact_ratio - 1) < tolerance, name
 
-fig, (ax_r, *axes) = plt.subplots(3, 1, figsize=(outputs.WIDTH, 6.5), sharex=True,
+fig, (ax_r, *axes) = plt.subplots(3, 1, figsize=(outputs.WIDTH, 5.0), sharex=True,
                                   gridspec_kw=dict(height_ratios=[1, 2, 2]))
 ax_r.plot(res.t[one], r[one], color="k")
 ax_r.set_ylabel("distance $r$")
@@ -305,8 +304,11 @@ for ax in (ax_r, *axes):
         edges = np.flatnonzero(np.diff(np.r_[0, (arc & one).astype(int), 0]))
         for start, stop in zip(edges[::2], edges[1::2]):
             ax.axvspan(res.t[start], res.t[stop - 1], color=shade, alpha=0.15, linewidth=0)
-axes[1].text(2.5, 3e-13, "$r < 1.5$", fontsize=outputs.MIN_FONT)
-axes[1].text(period / 2, 1e-6, "$r > 4.5$", ha="center", fontsize=outputs.MIN_FONT)
+for arc, text in ((r < 1.5, "$r < 1.5$"), (r > 4.5, "$r > 4.5$")):
+    band = np.flatnonzero(arc & one)
+    band = band[: np.argmax(np.diff(np.r_[band, band[-1] + 2]) > 1) + 1]   # the first band
+    axes[1].text(res.t[band].mean(), 0.04, text, ha="center", va="bottom",
+                 transform=axes[1].get_xaxis_transform(), fontsize=outputs.MIN_FONT)
 ax_r.set_title(f"periapsis ($r = {r_peri:.0f}$) at both ends, apoapsis ($r = {r_apo:.0f}$) "
                   f"in the middle", fontsize=outputs.MIN_FONT + 0.5)
 fig.legend(loc="outside upper center", ncol=2, handlelength=2.4, frameon=False,

@@ -80,11 +80,14 @@ COLORS = {name: outputs.MU_COLORS[problem.args[0]] if "mu" in name else "k"
 MARKERS = {"spline": "o", "rk4": "s"}
 fig, axes = plt.subplots(1, 2, figsize=(outputs.WIDTH, 4.6), sharey=True)
 for ax, names in zip(axes, ([n for n in cases if n.startswith("cannonball")], ["rigid body"])):
-    for name in names:
+    # mu = 1 first and widest, each later orbit thinner on top: curves that coincide
+    # (mu = 0.5 and mu = 1) show both colours
+    for k, name in enumerate(names[::-1]):
         for method in ("spline", "rk4"):
             sel = convergence[(convergence.problem == name) & (convergence.method == method)]
-            ax.loglog(sel.dt, sel.max_error, marker=MARKERS[method], markersize=4.5,
-                      color=COLORS[name], linestyle=outputs.METHOD_STYLE[method]["linestyle"])
+            ax.loglog(sel.dt, sel.max_error, marker=MARKERS[method], markersize=7 - 1.2 * k,
+                      linewidth=2.6 - 0.5 * k, color=COLORS[name],
+                      linestyle=outputs.METHOD_STYLE[method]["linestyle"])
     dt = STEPS[[0, -1]]
     for order, method in ((2, "spline"), (4, "rk4")):
         # each guide starts a decade above its method's largest error at the coarsest step

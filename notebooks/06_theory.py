@@ -497,22 +497,23 @@ constants += [dict(quantity="degree 5: spurious root modulus 2 + sqrt(3)", deriv
 roots_table["fitted_order_ellipse"] = [np.nan, quartic_slope, np.nan, np.nan]
 outputs.save_data(roots_table, "higher-degree-roots")
 
-fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 6.6))
+fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0))
 for k, style in ((3, "C0-"), (4, "C1-"), (5, "C3-"), (6, "C4-")):
     t, e, _ = degree_runs[k]
     keep = (e > 0) & (e < 1e6)
-    ax.semilogy(np.arange(e.size)[keep], e[keep], style, marker="o", markersize=2.5,
-                label=f"degree {k}")
+    # steps on a log axis: degrees 5 and 6 leave the plot within 30 steps, 3 and 4 run 600
+    ax.loglog(np.arange(e.size)[keep], e[keep], style, marker="o", markersize=2.5,
+              label=f"degree {k}")
 for k, factor in ((5, 2 + np.sqrt(3)), (6, 5 + 2 * np.sqrt(6))):
-    n = np.arange(0, 30)
+    n = np.arange(1, 30)
     ax.semilogy(n, 1e-16 * factor ** n, "k:", linewidth=1,
                 label="spurious roots: $3.73^n$, $9.90^n$" if k == 5 else None)
-ax.set_xlim(0, 600)
+ax.set_xlim(1, 600)
 ax.set_ylim(1e-16, 1e6)
 ax.set_xlabel("step number $n$ ($h = 0.05$)")
 ax.set_ylabel("$|y_n - \\cos t_n|$")
-ax.set_title("Degree-$k$ splines with $k - 1$ continuous derivatives on $y'' = -y$")
-ax.legend(loc="lower right", ncol=3)
+ax.set_title("Degree-$k$ splines ($k - 1$ continuous derivatives) on $y'' = -y$", loc="left")
+ax.legend(loc="lower right", ncol=2)
 bx.semilogy(damped.t, damped_error, "C1-", label="degree 4, error")
 bx.semilogy(damped.t, np.abs(exact_damped), "k-", linewidth=1, label="the solution $|y|$")
 bx.semilogy(damped.t, damped_error[late][0] * np.exp(parasitic_rate * (damped.t - damped.t[late][0])),
@@ -726,28 +727,27 @@ spline_windows = long_time[long_time.method == "spline"]
 print(f"spline, modified energy H~: largest error {spline_windows.modified_energy_error.max():.1e}; "
       f"modified angular momentum: {spline_windows.modified_momentum_error.max():.1e}")
 
-fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 6.4), sharex=True)
+fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0), sharex=True)
 styles = {"spline": ("C0", "o"), "spline, 1 sweep": ("C1", "s"), "Verlet": ("C2", "^"),
           "RK4, same work": ("C3", "D")}
 for method, group in long_time.groupby("method", sort=False):
     color, marker = styles.get(method, ("C5", "v"))
     name = method.replace("spline", outputs.METHOD_STYLE["spline"]["label"])
-    label = (f"{name} ({outputs.round_sig(evaluations_per_orbit[method], 2):,.0f} "
-             f"evaluations per orbit)")
+    label = f"{name} ({outputs.round_sig(evaluations_per_orbit[method], 2):,.0f} F / orbit)"
     ax.loglog(group.orbit, group.energy_error, color=color, marker=marker, markersize=4,
               label=label)
     bx.loglog(group.orbit, group.momentum_error, color=color, marker=marker, markersize=4)
 ax.loglog(spline_windows.orbit, spline_windows.modified_energy_error, "C0--", linewidth=1,
-          label="cubic spline: modified energy $\\tilde H$ (top), "
-                "$(1 + h^2\\mu/6r^3)\\, q \\times v$ (bottom)")
+          label="spline: $\\tilde H$ (top), $(1 + \\frac{h^2\\mu}{6r^3})\\, q \\times v$ (bottom)")
 bx.loglog(spline_windows.orbit, np.maximum(spline_windows.modified_momentum_error, 1e-16),
           "C0--", linewidth=1)
 ax.set_ylabel("largest $|H - H_0|$\nin the orbit")
 bx.set_ylabel("largest $|L - L_0|$\nin the orbit")
 bx.set_xlabel("orbit number (period $T$; spline and Verlet step $h = 0.01$)")
-ax.set_title("Ellipse $\\mu = 0.6$ over 10,000 orbits: energy and angular momentum")
-fig.legend(*ax.get_legend_handles_labels(), loc="outside upper center", ncol=1,
-           fontsize=outputs.MIN_FONT)
+ax.set_title("Ellipse $\\mu = 0.6$ over 10,000 orbits: energy and angular momentum",
+             loc="left")
+fig.legend(*ax.get_legend_handles_labels(), loc="outside upper center", ncol=2,
+           fontsize=outputs.MIN_FONT, columnspacing=1.0, handlelength=1.6)
 bx.set_ylim(1e-16, 1)
 ax.set_ylim(1e-12, 1e-1)
 

@@ -82,7 +82,7 @@ ROUNDING_LEVEL = 1e-12
 resolved = estimates[estimates.true > ROUNDING_LEVEL]
 ratio = resolved.estimated / resolved.true
 print(f"{run.nstep} steps over one period ({run.n_rejected} rejected); step sizes "
-      f"{outputs.sci(np.diff(run.t).min())} to {outputs.sci(np.diff(run.t).max())}")
+      f"{outputs.plain(np.diff(run.t).min())} to {outputs.plain(np.diff(run.t).max())}")
 print(f"estimated / true local error over the {len(resolved)} of {len(estimates)} sampled "
       f"steps whose error is above {ROUNDING_LEVEL:g}: median {np.median(ratio):.2f}, "
       f"middle 90 % from {np.quantile(ratio, 0.05):.2f} to {np.quantile(ratio, 0.95):.2f}")
@@ -124,7 +124,7 @@ summary.round(2)
 # %%
 fig, (ax, bx) = plt.subplots(1, 2, figsize=(outputs.WIDTH, 4.4))
 markers = dict(zip(study, "osD^v"))
-colors = {"spline": "C0", "RK45": "C1", "DOP853": "C2"}
+colors = {"spline": "C0", "RK45": "C9", "DOP853": "C5"}   # DOP853 brown, as in 06
 for (name, method), g in tolerance_table.groupby(["problem", "method"], sort=False):
     style = dict(color=colors[method], marker=markers[name], markersize=4, linewidth=1,
                  linestyle="-" if method == "spline" else ":")
@@ -216,22 +216,23 @@ print(f"direct pairs: uniform error / adaptive error "
       f"largest difference from the interpolated ratio "
       f"{np.max(np.abs(matched.direct / matched.interpolated - 1)):.0%}")
 
-fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 6.5))
+fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0))
 # Only the steps whose true local error is above the rounding of the
 # measurement (below it the dots are rounding noise, different on every CPU).
-ax.semilogy(steps[estimates.true > ROUNDING_LEVEL], resolved.true, "k.", markersize=4,
-            label=f"true local error of the step (above {ROUNDING_LEVEL:g})")
+ax.semilogy(steps[estimates.true > ROUNDING_LEVEL], resolved.true, ".", color="0.55",
+            markersize=5, label=f"true local error (above {ROUNDING_LEVEL:g})")
 ax.axhline(ROUNDING_LEVEL, color="k", linestyle=":", linewidth=0.8)
-ax.semilogy(steps, estimates.estimated, "C0-", linewidth=1.2,
-            label="estimate from the jump of $y'''$")
+ax.semilogy(steps, estimates.estimated, "C0-", linewidth=1.0, zorder=3,
+            label="estimate (jump of $y'''$)")
+ax.set_ylim(ROUNDING_LEVEL / 100, 1e-5)   # the start-up steps' estimates run below
 ax.set_xlabel("step number (periapsis at both ends, apoapsis in the middle)")
 ax.set_ylabel("local error of $y$")
-ax.set_title("Adaptive knots on the Kepler orbit $e = 0.9$ (rtol $10^{-3}$)")
+ax.set_title("Adaptive knots on the Kepler orbit $e = 0.9$ (rtol $10^{-3}$)", loc="left")
 hx = ax.twinx()
 hx.semilogy(steps, estimates.h, "C1--", linewidth=1.2, label="step size $h$ (right axis)")
 hx.set_ylabel("step size $h$")
 handles = ax.get_legend_handles_labels()[0] + hx.get_legend_handles_labels()[0]
-ax.legend(handles=handles, loc="lower center", ncol=2, fontsize=outputs.MIN_FONT)
+ax.legend(handles=handles, loc="upper left", fontsize=outputs.MIN_FONT, handlelength=1.5)
 styles = {"uniform, 1 sweep": "s--", "uniform, iterated": "s-", "adaptive, 1 sweep": "o--",
           "adaptive, iterated": "o-"}
 for method, (nfev, error) in curves.items():
@@ -239,7 +240,7 @@ for method, (nfev, error) in curves.items():
               markersize=5, label=method)
 bx.set_xlabel("right-hand-side evaluations over one period")
 bx.set_ylabel("position error after one period")
-bx.set_title("Work against precision, $e = 0.9$")
+bx.set_title("Work against precision, $e = 0.9$", loc="left")
 bx.legend(loc="lower left", fontsize=outputs.MIN_FONT)
 outputs.save_figure(fig, "adaptive-knots")
 
@@ -302,7 +303,7 @@ retry = splinestep.solve(lambda t, y, yp: -y, (0.0, 10.0), 1.0, 0.0, rtol=1e-6, 
                          first_step=3.0)
 print(f"y'' = -y from a first step of 3 (omega h > sqrt 6): {retry.n_failed} failed step "
       f"equation(s) retried smaller, status {retry.status}, error at t = 10 "
-      f"{outputs.sci(abs(retry.y[0, -1] - np.cos(10.0)))}")
+      f"{outputs.plain(abs(retry.y[0, -1] - np.cos(10.0)))}")
 
 # %%
 uniform = pleiades_table[pleiades_table.run.str.startswith("uniform")].copy()
@@ -422,8 +423,8 @@ ctl_err = long_table[long_table.method != "reversible steps"].energy_error.to_nu
 print(f"reversible: {reversible.nfev / ORBITS:.0f} evaluations per orbit, largest energy "
       f"error per orbit from {rev_err.min():.4e} to {rev_err.max():.4e}")
 print(f"adaptive:   {controlled.nfev / ORBITS:.0f} evaluations per orbit, largest energy error "
-      f"in the first orbit {outputs.sci(ctl_err[0], 1)}, over the last 30 orbits "
-      f"{outputs.sci(ctl_err[-30:].max(), 2)}")
+      f"in the first orbit {outputs.plain(ctl_err[0], 1)}, over the last 30 orbits "
+      f"{outputs.plain(ctl_err[-30:].max(), 2)}")
 # Where the adaptive run's error passes through zero: the orbits across which
 # the largest and the smallest H - H0 of an orbit change sign.
 ctl_signed = by_orbit["adaptive knots, rtol 0.1"]
@@ -605,11 +606,11 @@ for method, g in growth.items():
     tail = g[g.index >= 10]
     exponent = np.polyfit(np.log(tail.index), np.log(tail.energy_error), 1)[0]
     print(f"{method:<16} {g.nfev.iloc[0] / LONG_ORBITS:6.0f} evaluations per "
-          f"orbit; energy error {outputs.sci(g.energy_error.iloc[0])} in the first orbit, "
-          f"{outputs.sci(g.energy_error.iloc[-1])} in orbit {LONG_ORBITS} (growth exponent "
-          f"{exponent:+.2f}); position error {outputs.sci(g.position_error.iloc[0])}, "
-          f"{outputs.sci(g.position_error.loc[100])} in orbit 100, "
-          f"{outputs.sci(g.position_error.iloc[-1])} in orbit {LONG_ORBITS}")
+          f"orbit; energy error {outputs.plain(g.energy_error.iloc[0])} in the first orbit, "
+          f"{outputs.plain(g.energy_error.iloc[-1])} in orbit {LONG_ORBITS} (growth exponent "
+          f"{exponent:+.2f}); position error {outputs.plain(g.position_error.iloc[0])}, "
+          f"{outputs.plain(g.position_error.loc[100])} in orbit 100, "
+          f"{outputs.plain(g.position_error.iloc[-1])} in orbit {LONG_ORBITS}")
 # The orbit from which RK4's energy error exceeds the composition's largest,
 # two ways: on the sampled curve (log-log), and from the line a + c (k - 1)
 # fitted to RK4's error in orbit k (it drifts linearly from the first orbit).
@@ -622,7 +623,7 @@ crossing_sampled = (diagnostics.loglog_interp(
 rk4_drift, rk4_start = np.polyfit(rk4_long.index - 1, rk4_long.energy_error, 1)
 crossing_fitted = 1 + (level_4 - rk4_start) / rk4_drift
 print(f"RK4, same work: energy error {rk4_start:.3e} + {rk4_drift:.3e} (orbit - 1); it "
-      f"exceeds the order-4 composition's largest ({outputs.sci(level_4, 3)}) from orbit "
+      f"exceeds the order-4 composition's largest ({outputs.plain(level_4, 3)}) from orbit "
       f"{outputs.round_sig(crossing_sampled, 3):.0f} (sampled curve) or "
       f"{outputs.round_sig(crossing_fitted, 3):.0f} (fitted line)")
 position_ratio = (rk4_long.position_error / growth["spline, order 4"].position_error)
@@ -667,28 +668,29 @@ for method, baseline in pairs:
 comparison = pd.DataFrame(comparison)
 outputs.save_data(comparison, "composition-ratios")
 
-fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 6.5))
+fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0))
 for method, g in growth.items():
     color = {"spline, order 2": "C0", "spline, order 4": "C2", "RK4, same work": "C3"}[method]
     ax.loglog(g.index, g.energy_error, "o-", color=color, markersize=4, label=method)
     ax.loglog(g.index, g.position_error, "x:", color=color, markersize=4)
-ax.set_xlabel(f"orbit number (ellipse $\\mu = 0.6$; spline $h = {LONG_STEP:g}$, the panel "
-              f"below's largest step)")
+ax.set_xlabel(f"orbit number (ellipse $\\mu = 0.6$; spline $h = {LONG_STEP:g}$)")
 ax.set_ylabel("largest error in the orbit")
-ax.set_title("10,000 orbits: $|H - H_0|$ (o, solid), position error (x, dotted)")
+ax.set_title("10,000 orbits: $|H - H_0|$ (o, solid), position error (x, dotted)", loc="left")
 ax.set_ylim(1e-10, 1e4)
 ax.legend(loc="upper center", fontsize=outputs.MIN_FONT, ncol=3)
 markers = {"spline, order 2": ("C0", "o-"), "spline, order 4": ("C2", "o-"),
            "spline, order 6": ("C4", "o-"), "Richardson (order 2 at h, h/2)": ("C1", "D--"),
            "RK4": ("C3", "s--"), "scipy DOP853": ("C5", "v--")}
+short = {"Richardson (order 2 at h, h/2)": "Richardson (2 at h, h/2)", "scipy DOP853": "DOP853"}
 for method, (nfev, error) in work_curves.items():
     color, style = markers[method]
-    bx.loglog(nfev, error, style, color=color, markersize=4, label=method)
+    bx.loglog(nfev, error, style, color=color, markersize=4, label=short.get(method, method))
 bx.set_xlabel("right-hand-side evaluations over $t \\in [0, 50]$")
 bx.set_ylabel("max position error")
-bx.set_title("Work against precision, ellipse $\\mu = 0.6$")
-bx.set_ylim(1e-15, 1.0)
-bx.legend(loc="lower left", fontsize=outputs.MIN_FONT - 1, ncol=2)
+bx.set_title("Work against precision, ellipse $\\mu = 0.6$", loc="left")
+bx.set_ylim(1e-19, 1.0)   # room below the curves for the key
+bx.legend(loc="lower left", fontsize=outputs.MIN_FONT, ncol=3, handlelength=1.6,
+          columnspacing=0.8)
 outputs.save_figure(fig, "composition")
 
 # %%
@@ -763,7 +765,7 @@ for row in global_table.itertuples():
     print(f"{row.problem:<20} {row.knots} knots, Jacobian {row.jacobian}: "
           f"{row.newton_iterations} global Newton iterations; F {row.nfev} / {row.nfev_stepwise} "
           f"= {row.nfev / row.nfev_stepwise:.2f}, Jacobian {row.njev} / {row.njev_stepwise}; "
-          f"largest difference from the stepwise solution {outputs.sci(row.max_difference, 1)}")
+          f"largest difference from the stepwise solution {outputs.plain(row.max_difference, 1)}")
 analytic = global_table[global_table.jacobian == "analytic"]
 differenced = global_table[global_table.jacobian != "analytic"]
 
@@ -841,10 +843,10 @@ for b, g in bvp_table.groupby("branch"):
     print(f"{b} branch: fitted order {bvp_orders[b]:.2f} (successive errors "
           f"{bvp_successive[b].min():.2f} to {bvp_successive[b].max():.2f}); Newton iterations "
           f"{g.newton_iterations.min()} to {g.newton_iterations.max()}; error at "
-          f"{g.points.max()} points {outputs.sci(g.error.iloc[-1])}.  scipy: status "
+          f"{g.points.max()} points {outputs.plain(g.error.iloc[-1])}.  scipy: status "
           f"{', '.join(str(v) for v in sorted(set(g.scipy_status)))}, {g.scipy_points.min()} to "
-          f"{g.scipy_points.max()} nodes, errors {outputs.sci(g.scipy_error.min(), 1)} to "
-          f"{outputs.sci(g.scipy_error.max(), 1)}")
+          f"{g.scipy_points.max()} nodes, errors {outputs.plain(g.scipy_error.min(), 1)} to "
+          f"{outputs.plain(g.scipy_error.max(), 1)}")
 default_limit = [scipy_solve_bvp(lambda s, u: np.vstack([u[1], -np.exp(u[0])]),
                                  lambda a, b: np.array([a[0], b[0]]), x,
                                  np.vstack([4.0 * np.sin(np.pi * x), 4.0 * np.pi * np.cos(np.pi * x)]),
@@ -853,13 +855,13 @@ default_limit = [scipy_solve_bvp(lambda s, u: np.vstack([u[1], -np.exp(u[0])]),
 print(f"scipy with its default max_nodes = 1000, upper branch from 11 to 321 points: status 1 "
       f"(node limit) in {sum(v == 1 for v in default_limit)} of {len(default_limit)} runs")
 per_node_range = [float(f"{v:.0e}") for v in (np.nanmin(per_node), np.nanmax(per_node))]
-print(f"at the nodes scipy used, our error is {outputs.sci(per_node_range[0], 1)} to "
-      f"{outputs.sci(per_node_range[1], 1)} times scipy's")
+print(f"at the nodes scipy used, our error is {outputs.plain(per_node_range[0], 1)} to "
+      f"{outputs.plain(per_node_range[1], 1)} times scipy's")
 linear = splinestep.solve_bvp(lambda t, y, yp: y, np.linspace(0.0, 1.0, 101), 0.0, 1.0,
                               tol=np.inf)
 linear_error = np.max(np.abs(linear.y[0] - np.sinh(linear.t) / np.sinh(1.0)))
 print(f"y'' = y, y(0) = 0, y(1) = 1 on 101 points: {linear.niter} Newton iterations, error "
-      f"{outputs.sci(linear_error)} (exact sinh x / sinh 1)")
+      f"{outputs.plain(linear_error)} (exact sinh x / sinh 1)")
 no_solution = splinestep.solve_bvp(fun, np.linspace(0.0, 1.0, 41), 0.0, 0.0, args=(4.0,))
 print(f"Bratu with lambda = 4 > {problems.boundary.LAMBDA_CRITICAL:.4f} (no solution): "
       f"status {no_solution.status}")
@@ -938,5 +940,5 @@ bvp_tolerance.assign(tol=bvp_tolerance.tol.map("{:.0e}".format),
 # %%
 resonant = splinestep.solve_bvp(lambda x, y, yp: -y, np.linspace(0.0, np.pi, 11), 0.0, 1.0)
 print(f"y'' = -y, y(0) = 0, y(pi) = 1: status {resonant.status}, {resonant.t.size} mesh "
-      f"points, max |y| = {outputs.sci(np.max(np.abs(resonant.y)), 1)}")
+      f"points, max |y| = {outputs.plain(np.max(np.abs(resonant.y)), 1)}")
 print(resonant.message)

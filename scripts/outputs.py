@@ -155,6 +155,16 @@ def sci(value, digits=2):
     return f"${mantissa} \\times 10^{{{exponent}}}$"
 
 
+def plain(value, digits=2):
+    """:func:`sci` as plain text, for printed lines (no Markdown there):
+    ``7.2 × 10⁻⁶``; plain decimals between 0.01 and 1000."""
+    text = sci(value, digits).strip("$")
+    match = re.fullmatch(r"(.*) \\times 10\^\{(-?\d+)\}", text)
+    if match is None:
+        return text
+    return f"{match.group(1)} \u00d7 10{match.group(2).translate(_SUPERSCRIPTS)}"
+
+
 def round_sig(value, digits=2):
     """``value`` rounded to ``digits`` significant digits."""
     return float(f"{value:.{digits - 1}e}")
