@@ -1,0 +1,96 @@
+"""Where along an orbit a run's error is made: notebook 02's measurement
+of the report's Sec. 5 claim that the cannonball's error "corresponds with
+the curvature".
+
+:func:`along_the_orbit` compares, over the first orbit of a closed Kepler
+orbit, the rate at which the energy error changes with three candidates
+for "curvature": the path's curvature, the acceleration mu / r^2 (the
+solution's second derivative) and |x''''|, which sets the method's local
+error, each on the arc around periapsis (r < inner) against the arc around
+apoapsis (r > outer).
+"""
+
+import numpy as np
+import pandas as pd
+
+from .. import problems
+
+# The quantities of :func:`along_the_orbit`'s table, with what each means.
+QUANTITIES = {
+    "time_share_r_lt_1_5": "share of the time at r < 1.5",
+    "energy_variation_share_r_lt_1_5": "share of the energy error's variation at r < 1.5",
+    "curvature_ratio_arcs": "path curvature, periapsis arc / apoapsis arc",
+    "min_curvature": "smallest path curvature",
+    "r_min_curvature": "r where the path curvature is smallest",
+    "acceleration_ratio_apsides": "acceleration, periapsis / apoapsis",
+    "acceleration_ratio_arcs": "acceleration, periapsis arc / apoapsis arc",
+    "x4_ratio_arcs": "|x''''|, periapsis arc / apoapsis arc",
+    "energy_rate_ratio_arcs": "energy-error rate, periapsis arc / apoapsis arc",
+    "log_correlation_rate_curvature": "log-correlation: rate and path curvature",
+    "log_correlation_rate_acceleration": "log-correlation: rate and acceleration",
+    "log_correlation_rate_x4": "log-correlation: rate and |x''''|",
+    "energy_error_apoapsis": "energy error at apoapsis",
+    "energy_error_next_periapsis": "energy error at the next periapsis",
+    "max_position_error": "largest position error",
+    "t_max_position_error": "t of the largest position error",
+    "r_max_position_error": "r of the largest position error",
+}
+
+
+def along_the_orbit(res, mu, inner=1.5, outer=4.5):
+    """The error of the run ``res`` (a cannonball solution with knots
+    ``res.t``, launched as :func:`splinestep.problems.cannonball`) along the
+    closed orbit of ``mu``.
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        Columns ``quantity`` (the keys of :data:`QUANTITIES`) and ``value``;
+        ratios are largest values on the periapsis arc (r < ``inner``) over
+        the apoapsis arc (r > ``outer``), over the first orbit; the shares
+        are over the whole run.
+    curves : dict
+        The sampled curves the notebook plots: ``t``, ``r``, ``curvature``,
+        ``acceleration`` (|x''|), ``x4`` (|x''''|) at the knots; ``middle``
+        and ``rate`` (|change of the energy error| / step) on the steps;
+        the masks ``one`` (knots of the first orbit) and ``first`` (steps of
+        the first orbit); ``apoapsis`` (the knot nearest half a period).
+    """
+    problem = problems.cannonball(mu)
+    elements = problems.orbit_elements(mu)
+    period = elements["period"]
+    t = res.t
+    x_exact, v_exact = problem.exact(t)
+    acceleration, _, fourth = problems.acceleration_derivatives(x_exact, v_exact, mu)
+    curvature = problems.path_curvature(v_exact, acceleration)
+    x2, x4, r = np.hypot(*acceleration), np.hypot(*fourth), np.hypot(*x_exact)
+    energy_error = problem.invariants["energy"](res.y, res.yp) - elements["energy"]
+    rate = np.abs(np.diff(energy_error)) / np.diff(t)   # per unit time, on each step
+    middle = 0.5 * (t[1:] + t[:-1])
+    first, one = middle < period, t <= period
+    apoapsis = np.argmin(np.abs(t - period / 2))
+    r_mid = 0.5 * (r[1:] + r[:-1])
+    near = r_mid < inner
+    x_err = np.hypot(*(res.y - x_exact))
+    peak = np.argmax(x_err)
+    peri_arc, apo_arc = first & (r_mid < inner), first & (r_mid > outer)
+
+    def arc_ratio(values):
+        values = values[1:] if values.size == r.size else values
+        return values[peri_arc].max() / values[apo_arc].max()
+
+    def log_corr(values):
+        return np.corrcoef(np.log(values[1:][first]), np.log(rate[first]))[0, 1]
+
+    change = np.abs(np.diff(energy_error))
+    values = [near.mean(), change[near].sum() / change.sum(),
+              arc_ratio(curvature), curvature[one].min(),
+              r[np.argmin(np.where(one, curvature, np.inf))],
+              x2[one].max() / x2[one].min(), arc_ratio(x2), arc_ratio(x4), arc_ratio(rate),
+              log_corr(curvature), log_corr(x2), log_corr(x4), abs(energy_error[apoapsis]),
+              abs(energy_error[np.argmin(np.abs(t - period))]),
+              x_err[peak], t[peak], r[peak]]
+    table = pd.DataFrame({"quantity": list(QUANTITIES), "value": values})
+    curves = dict(t=t, r=r, curvature=curvature, acceleration=x2, x4=x4, middle=middle,
+                  rate=rate, one=one, first=first, apoapsis=apoapsis)
+    return table, curves
