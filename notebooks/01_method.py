@@ -189,7 +189,7 @@ outputs.save_figure(fig, "method-phase-error")
 #   the energy error stays bounded and oscillates with the orbit
 #   (`02_cannonball`), while the phase drifts linearly (on the oscillator it
 #   lags by $2\pi x^2/24$ per period to leading order; on the ellipse the
-#   lag per orbit is measured in `06_theory`), and so does the position error.  The report's rigid body in
+#   lag per orbit is measured in `08_long_time`), and so does the position error.  The report's rigid body in
 #   its second-order form is not of that form, and there the energy error
 #   does grow (`03_rigid_body`): the bounded error is a property of the
 #   method on conservative problems, not on every problem;
@@ -206,4 +206,4 @@ outputs.save_figure(fig, "method-phase-error")
 #   only changes the constant.  Over long runs one sweep is another method:
 #   the predictor-corrector is not symmetric, and on the cannonball its
 #   energy error drifts linearly where the converged step's stays bounded
-#   (notebook 06, section 6).
+#   (notebook 08).

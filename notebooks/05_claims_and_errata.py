@@ -250,7 +250,7 @@ claim("(none)", "the spline stepper against Stormer-Verlet",
       "(the same method in other variables); the other orbits were not measured")
 
 
-# The improvements the report suggests (notebooks/07_improvements).
+# The improvements the report suggests (notebooks/09_improvements).
 adaptive_work = outputs.read_data("adaptive-work")
 adaptive_curves = {m: (g.nfev.to_numpy(), g.final_error.to_numpy())
                    for m, g in adaptive_work.groupby("method")}
@@ -275,7 +275,7 @@ tolerance_spline = tolerance_runs[tolerance_runs.method == "spline"]
 tolerance_slopes = [tolerance.slope(g.rtol, g.error) for _, g in tolerance_spline.groupby("problem")]
 pleiades_over_rtol = (pleiades_adaptive.error
                       / pleiades_adaptive.run.str.split("= ").str[1].astype(float))
-# Steps whose true local error is below rounding (notebook 07) are left out.
+# Steps whose true local error is below rounding (notebook 09) are left out.
 estimate_resolved = estimate[estimate.true > 1e-12]
 newton_per_step = newton.assign(per_step=newton.nfev / newton.nstep).pivot(
     index="run", columns="method", values="per_step")

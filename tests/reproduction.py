@@ -140,12 +140,13 @@ COLUMNS = {
                         period_error="error", precession_per_orbit="error"),
     "spline-verlet-work": dict(dt="exact", nfev="exact", max_error="error"),
     "theory-constants": dict(derived="exact", measured="error"),
+    "higher-degree-constants": dict(derived="exact", measured="error"),
     "rigid-body-energy-drift": dict(method="exact", energy_error_t80="error",
                                     energy_error_t800="error", max_energy_error="error",
                                     growth_ratio="error", drift_rate="error"),
     # The paper's prose numbers, each from a file checked at its own kinds.
     "headline-numbers": dict(value="adaptive"),
-    # Notebook 07.  An adaptive run's knots come from accept/reject decisions.
+    # Notebook 09.  An adaptive run's knots come from accept/reject decisions.
     "adaptive-estimate": dict(t="adaptive", h="adaptive", r="adaptive", estimated="adaptive",
                               true="adaptive"),
     "adaptive-work": dict(setting="exact", nfev="exact", final_error="error"),

@@ -51,7 +51,7 @@ SAFETY norm^(-1/2) (the estimate of y' per unit step is O(h^2)), within
 step whose equation could not be solved (the sweep diverged, Newton
 failed) is rejected and retried FAILED_FACTOR times smaller.  Measured on
 five problems over rtol = 1e-3 ... 1e-8 (:mod:`splinestep.analysis.tolerance`,
-notebook 07), the final error of y stays below rtol times the solution's
+notebook 09), the final error of y stays below rtol times the solution's
 scale and that of y' within 10 times (the largest error over a run up to
 2.6 times, on the pendulum at rtol 1e-3), and the error falls with rtol at
 slopes 0.90 to 1.28.  Where a problem amplifies errors, no control of

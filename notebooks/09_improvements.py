@@ -384,7 +384,7 @@ outputs.say(
 
 # %% [markdown]
 # ## 2. The long-time picture of variable steps
-# A fixed step keeps the energy error bounded (notebook 06); adaptive knots
+# A fixed step keeps the energy error bounded (notebook 08); adaptive knots
 # lose it, since the step sizes depend on an error estimate that is not
 # symmetric in time.  Hairer and Soderlind (2005) restore it: the step is
 # $\varepsilon/\rho$, with the control variable $\rho$ updated by a
@@ -464,7 +464,7 @@ outputs.say(
 
 # %% [markdown]
 # ## 3. Order 4 and 6 by symmetric composition
-# Higher-degree splines give no usable higher order (notebook 06).  What
+# Higher-degree splines give no usable higher order (notebook 07).  What
 # works: the spline step is
 # symmetric (stepping back with $-h$ undoes it), so a symmetric composition of
 # it raises the order and keeps the symmetry.  `solve(order=4)` takes each
@@ -549,7 +549,7 @@ outputs.say(
 # ### Long time, and the cost against the other routes
 # The ellipse over 10,000 orbits, sampled over whole orbits at
 # logarithmically spaced orbit numbers and at each method's own steps, as in
-# notebook 06, at $h = 0.08$ (the
+# notebook 08, at $h = 0.08$ (the
 # largest step of the work-precision panel below): the report's method, the
 # order-4 composition, and RK4 at the composition's work (its step stretched
 # to spend the same evaluations); energy error and position error against
