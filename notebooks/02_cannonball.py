@@ -65,7 +65,7 @@ for ax, mu in zip(axes.flat, MUS):
     period = problems.orbit_elements(mu)["period"]
     lap = t <= period if np.isfinite(period) else slice(None)
     ax.plot(exact[0, lap], exact[1, lap], color="0.6", linewidth=5, solid_capstyle="butt",
-            label="exact (one period)")
+            label="exact (one period if closed)")
     ax.plot(*runs[mu]["spline"].y, color=outputs.METHOD_STYLE["spline"]["color"], linewidth=1.3,
             label="cubic spline")
     marks = slice(0, None, 250)  # RK4 every 2.5 time units: markers that leave the line visible
@@ -272,12 +272,14 @@ axes[1].semilogy(c["middle"][first], c["rate"][first], color="C0",
                  label="spline's energy-error rate")
 axes[1].set_ylabel("energy-error rate\n$|\\Delta H_{\\rm err}| / \\Delta t$")
 axes[1].set_xlabel("time $t$ (one orbit of the ellipse, $\\mu = 0.6$)")
-for arc, shade, text in ((c["r"] < 1.5, "C3", "$r < 1.5$"), (c["r"] > 4.5, "0.5", "$r > 4.5$")):
+for arc, shade, text, y in ((c["r"] < 1.5, "C3", "$r < 1.5$", 0.04),
+                            (c["r"] > 4.5, "0.5", "$r > 4.5$", 0.96)):
     edges = np.flatnonzero(np.diff(np.r_[0, (arc & one).astype(int), 0]))
     for ax in (ax_r, *axes):
         for start, stop in zip(edges[::2], edges[1::2]):
             ax.axvspan(t[start], t[stop - 1], color=shade, alpha=0.15, linewidth=0)
-    axes[1].text(0.5 * (t[edges[0]] + t[edges[1] - 1]), 0.04, text, ha="center", va="bottom",
+    axes[1].text(0.5 * (t[edges[0]] + t[edges[1] - 1]), y, text, ha="center",
+                 va="bottom" if y < 0.5 else "top",
                  transform=axes[1].get_xaxis_transform(), fontsize=outputs.MIN_FONT)
 ax_r.set_title(f"periapsis ($r = {r_peri:.0f}$) at both ends, apoapsis ($r = {r_apo:.0f}$) "
                f"in the middle", fontsize=outputs.MIN_FONT + 0.5)

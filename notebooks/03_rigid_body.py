@@ -81,7 +81,7 @@ for (ax_major, ax_minor), case in zip(axes.T, CASES):
     coincide[case] = np.max(np.abs(ref[1] - ref[2]))
     ax_major.set_title("$\\dot\\omega(0) = 0$ (as printed)" if case == "printed"
                        else "$\\dot\\omega(0)$ from Euler's equations, $t \\geq 64$")
-    if case != "printed":   # 27 periods in 80 time units: the last five, to see them
+    if case != "printed":   # about 25 periods of omega_1 in 80 time units: t >= 64
         ax_minor.set_xlim(64, 80.5)
     ax_minor.set_xlabel("time $t$")
     stride = slice(None, None, 5)
@@ -109,14 +109,14 @@ outputs.save_figure(fig, "rigid-body-angular-velocity")
 # %%
 amplitude = {case: np.max(np.abs(references[case][0][1:]), axis=1) for case in CASES}
 swing = {case: np.ptp(references[case][0][0]) for case in CASES}
-print(f"omega_1 varies by at most {max(swing.values()):.0e}; amplitudes of omega_2, omega_3: "
+print(f"omega_1 varies by at most {max(swing.values()):.1e}; amplitudes of omega_2, omega_3: "
       + "; ".join(f"{case} {amplitude[case][0]:.4f} and {amplitude[case][1]:.4f}"
                   for case in CASES)
       + f"; printed case: |omega_2 - omega_3| <= {coincide['printed']:.0e}")
 
 # %% [markdown]
 # The body spins about its axis of largest moment, a stable motion:
-# $\omega_1$ stays within $3 \times 10^{-5}$ of its start while
+# $\omega_1$ stays within $3.3 \times 10^{-5}$ of its start while
 # $\omega_2, \omega_3$ oscillate with amplitudes 0.0100 and 0.0100
 # (printed rates) or 0.0141 and 0.0141 (consistent rates): with the printed
 # rates it is a different motion, in which $\omega_2$ and $\omega_3$ stay

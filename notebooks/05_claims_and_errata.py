@@ -250,7 +250,7 @@ claim("(none)", "the spline stepper against Stormer-Verlet",
       "(the same method in other variables); the other orbits were not measured")
 
 
-# The improvements the report suggests (notebooks/09_improvements).
+# The improvements the report suggests (notebooks 09 to 11).
 adaptive_work = outputs.read_data("adaptive-work")
 adaptive_curves = {m: (g.nfev.to_numpy(), g.final_error.to_numpy())
                    for m, g in adaptive_work.groupby("method")}

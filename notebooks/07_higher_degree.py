@@ -142,11 +142,11 @@ for k, factor in ((5, 2 + np.sqrt(3)), (6, 5 + 2 * np.sqrt(6))):
     ax.semilogy(n, 1e-16 * factor ** n, "k:", linewidth=1,
                 label="spurious roots: $3.73^n$, $9.90^n$" if k == 5 else None)
 ax.set_xlim(1, 600)
-ax.set_ylim(1e-16, 1e6)
+ax.set_ylim(1e-21, 1e6)   # room below the curves for the key
 ax.set_xlabel("step number $n$ ($h = 0.05$)")
 ax.set_ylabel("$|y_n - \\cos t_n|$")
 ax.set_title("Degree-$k$ splines ($k - 1$ continuous derivatives) on $y'' = -y$", loc="left")
-ax.legend(loc="lower right", ncol=2)
+ax.legend(loc="lower right", ncol=3, fontsize=outputs.MIN_FONT, columnspacing=1.0)
 bx.semilogy(damped.t, damped_error, "C1-", label="degree 4, error")
 bx.semilogy(damped.t, np.abs(exact_damped), "k-", linewidth=1, label="the solution $|y|$")
 bx.semilogy(damped.t, damped_error[late][0] * np.exp(parasitic_rate * (damped.t - damped.t[late][0])),

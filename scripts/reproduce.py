@@ -29,8 +29,9 @@ NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.py"))
 LAST = ("05_claims_and_errata",)
 # Notebooks start longest first (times from `make bench`), so that the short
 # ones fill the gaps at the end; any other notebook starts after these.
-ORDER = ("09_improvements", "08_long_time", "06_theory", "07_higher_degree", "02_cannonball",
-         "04_convergence", "03_rigid_body", "01_method")
+ORDER = ("08_long_time", "09_adaptive_steps", "06_theory", "10_higher_order",
+         "11_global_sweep_and_bvp", "07_higher_degree", "02_cannonball", "04_convergence",
+         "03_rigid_body", "01_method")
 # Notebooks run at the same time (each kernel is one process).
 JOBS = int(os.environ.get("SPLINESTEP_JOBS", "2"))
 KERNELSPEC = {"name": "python3", "display_name": "Python 3 (ipykernel)", "language": "python"}

@@ -146,7 +146,7 @@ COLUMNS = {
                                     growth_ratio="error", drift_rate="error"),
     # The paper's prose numbers, each from a file checked at its own kinds.
     "headline-numbers": dict(value="adaptive"),
-    # Notebook 09.  An adaptive run's knots come from accept/reject decisions.
+    # Notebooks 09 to 11.  An adaptive run's knots come from accept/reject decisions.
     "adaptive-estimate": dict(t="adaptive", h="adaptive", r="adaptive", estimated="adaptive",
                               true="adaptive"),
     "adaptive-work": dict(setting="exact", nfev="exact", final_error="error"),

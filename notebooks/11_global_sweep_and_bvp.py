@@ -1,0 +1,241 @@
+# %% [markdown]
+# # All knots at once: the single Newton-LU sweep and boundary value problems
+#
+# The report's third direction: "the coefficients at all points in a
+# single sweep or set of iterations through the use of Newton's method and
+# LU-decomposition".  The same step equations, solved for every knot
+# together, and with $y$ given at both ends: boundary value problems.
+
+# %%
+import sys
+import warnings
+
+import numpy as np
+import pandas as pd
+from scipy.integrate import solve_bvp as scipy_solve_bvp
+from scipy.integrate import solve_ivp
+
+sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
+import outputs
+import splinestep
+from splinestep import controllers, problems, step
+from matplotlib.lines import Line2D
+from splinestep.analysis import diagnostics, tolerance
+from splinestep.analysis.extrapolation import richardson
+
+plt = outputs.setup()
+cases = {f"cannonball mu={mu:g}": problems.cannonball(mu) for mu in problems.CANNONBALL_MU}
+cases["rigid body"] = problems.rigid_body("consistent")
+ellipse = cases["cannonball mu=0.6"]
+
+# %% [markdown]
+# ## The single Newton-LU sweep
+# `iteration="global"` solves the equations of all knots together: the step
+# relations of each interval and the collocation at each knot, $3m$ unknowns
+# per knot, by Newton's method with a sparse LU (SuperLU in its natural
+# order keeps the band of the block-bidiagonal Jacobian).  It starts from one
+# fixed-point sweep per step.  The counts below are every call the solves
+# make (`tests/test_improvements.py` counts them from outside): the global
+# one includes its starting sweep with that sweep's step-size check ($2m+1$
+# evaluations of $F$ at each of three states); the stepwise one includes the
+# check of $F$ and the Jacobian at $t_0$ and its step-size check (three
+# Jacobians).
+
+# %%
+global_rows = []
+global_cases = {"cannonball mu=0.6": ellipse,
+                "oscillator omega=3": problems.harmonic(3.0, (0.0, 20.0), 0.05),
+                "rigid body": cases["rigid body"]}
+for name, problem in global_cases.items():
+    stepwise = problem.solve(iteration="newton", tol=1e-14)
+    whole = problem.solve(iteration="global", tol=1e-13)
+    global_rows.append(dict(problem=name, jacobian="analytic" if problem.jac else
+                            "finite differences", knots=whole.t.size, status=whole.status,
+                            newton_iterations=whole.niter, nfev=whole.nfev, njev=whole.njev,
+                            nfev_stepwise=stepwise.nfev, njev_stepwise=stepwise.njev,
+                            max_difference=np.max(np.abs(whole.y - stepwise.y))))
+global_table = pd.DataFrame(global_rows)
+outputs.save_data(global_table, "global-sweep")
+print("evaluations of F and of the analytic Jacobian (finite-difference Jacobian columns are "
+      "evaluations of F), global / stepwise Newton:")
+for row in global_table.itertuples():
+    print(f"{row.problem:<20} {row.knots} knots, Jacobian {row.jacobian}: "
+          f"{row.newton_iterations} global Newton iterations; F {row.nfev} / {row.nfev_stepwise} "
+          f"= {row.nfev / row.nfev_stepwise:.2f}, Jacobian {row.njev} / {row.njev_stepwise}; "
+          f"largest difference from the stepwise solution {outputs.plain(row.max_difference, 1)}")
+analytic = global_table[global_table.jacobian == "analytic"]
+differenced = global_table[global_table.jacobian != "analytic"]
+
+# %%
+outputs.say(
+    f"The global solve gives the stepwise solution to "
+    f"{outputs.sci(global_table.max_difference.max(), 1)} in "
+    f"{global_table.newton_iterations.min()} "
+    f"to {global_table.newton_iterations.max()} Newton iterations, each of which evaluates "
+    f"$F$ and its Jacobian at every knot.  With an analytic Jacobian it spends "
+    f"{outputs.span((analytic.nfev / analytic.nfev_stepwise).agg(['min', 'max']), decimals=1)} "
+    f"times the stepwise evaluations of $F$ and one Jacobian per knot and iteration "
+    f"({', '.join(f'{j:,}' for j in analytic.njev)}) where the stepwise Newton's kept matrix "
+    f"needs {analytic.njev_stepwise.max() - 4} per run (its count, "
+    f"{analytic.njev_stepwise.max()}, includes the check of the Jacobian at $t_0$ and the three "
+    f"of the step-size check); with a finite-difference "
+    f"Jacobian, whose columns are evaluations of $F$, "
+    f"{outputs.span((differenced.nfev / differenced.nfev_stepwise).agg(['min', 'max']), decimals=1)} "
+    f"times the stepwise evaluations; and a sparse factorisation of the whole trajectory at "
+    f"every iteration.  On one processor it "
+    f"does not pay (`make bench` times it).  What it would need is the structure of "
+    f"parallel-in-time methods: the knots' evaluations and the factorisation split over "
+    f"processors, as in parareal and multigrid-reduction-in-time, with a cheap coarse "
+    f"propagator for the guess.  Its natural use is elsewhere: problems that stepping cannot "
+    f"solve at all.")
+
+# %% [markdown]
+# ## Boundary value problems
+# The same equations with $y$ given at both ends instead of $y$ and $y'$ at
+# the start: `splinestep.solve_bvp(fun, x, ya, yb)`.  The Bratu problem
+# $y'' + \lambda e^y = 0$, $y(0) = y(1) = 0$, $\lambda = 1$, has two
+# solutions, $y = -2\ln\left(\cosh((x - \tfrac12)\theta/2)/\cosh(\theta/4)\right)$
+# for the two roots of $\theta = \sqrt{2\lambda}\cosh(\theta/4)$; the
+# guesses $0.1\sin\pi x$ and $4\sin\pi x$ find one each.  Beside it, scipy's
+# `solve_bvp` (fourth-order collocation with mesh refinement, tol $10^{-8}$)
+# from the same mesh and guesses.  Its default node limit (1000) stops most
+# upper-branch runs before they meet the tolerance (status 1, counted below);
+# here it may use up to 100,000 nodes, and the table reports the status and
+# the nodes it used.  Both errors are measured on the same 2001 equally spaced points
+# (between the knots: the spline's and scipy's own interpolants).
+
+# %%
+SCIPY_MAX_NODES = 100_000
+x_check = np.linspace(0.0, 1.0, 2001)
+bvp_rows = []
+for branch, amplitude in (("lower", 0.1), ("upper", 4.0)):
+    fun, jac, args, exact = problems.bratu(1.0, branch)
+    for n in (11, 21, 41, 81, 161, 321, 641, 1281):
+        x = np.linspace(0.0, 1.0, n)
+        guess = amplitude * np.sin(np.pi * x)[None]
+        ours = splinestep.solve_bvp(fun, x, 0.0, 0.0, y_guess=guess, args=args,
+                                    tol=np.inf)   # on this mesh: the order is measured
+        theirs = scipy_solve_bvp(lambda s, u: np.vstack([u[1], -np.exp(u[0])]),
+                                 lambda a, b: np.array([a[0], b[0]]), x,
+                                 np.vstack([guess, np.pi * amplitude * np.cos(np.pi * x)]),
+                                 tol=1e-8, max_nodes=SCIPY_MAX_NODES)
+        bvp_rows.append(dict(branch=branch, points=n, h=x[1], status=ours.status,
+                             newton_iterations=ours.niter,
+                             error=np.max(np.abs(ours.sol(x_check)[0] - exact(x_check)[0])),
+                             scipy_status=theirs.status, scipy_points=theirs.x.size,
+                             scipy_error=np.max(np.abs(theirs.sol(x_check)[0]
+                                                       - exact(x_check)[0]))))
+bvp_table = pd.DataFrame(bvp_rows)
+outputs.save_data(bvp_table, "bvp-bratu")
+bvp_orders = {b: np.polyfit(np.log(g.h), np.log(g.error), 1)[0]
+              for b, g in bvp_table.groupby("branch")}
+# Second way: the order from the ratio of successive errors (the step halves).
+bvp_successive = {b: np.log2(g.error.to_numpy()[:-1] / g.error.to_numpy()[1:])
+                  for b, g in bvp_table.groupby("branch")}
+# Accuracy per node: our error interpolated at the nodes scipy used, over scipy's error.
+per_node = np.concatenate([
+    diagnostics.loglog_interp(g.points, g.error, g.scipy_points) / g.scipy_error
+    for _, g in bvp_table.groupby("branch")])
+for b, g in bvp_table.groupby("branch"):
+    print(f"{b} branch: fitted order {bvp_orders[b]:.2f} (successive errors "
+          f"{bvp_successive[b].min():.2f} to {bvp_successive[b].max():.2f}); Newton iterations "
+          f"{g.newton_iterations.min()} to {g.newton_iterations.max()}; error at "
+          f"{g.points.max()} points {outputs.plain(g.error.iloc[-1])}.  scipy: status "
+          f"{', '.join(str(v) for v in sorted(set(g.scipy_status)))}, {g.scipy_points.min()} to "
+          f"{g.scipy_points.max()} nodes, errors {outputs.plain(g.scipy_error.min(), 1)} to "
+          f"{outputs.plain(g.scipy_error.max(), 1)}")
+default_limit = [scipy_solve_bvp(lambda s, u: np.vstack([u[1], -np.exp(u[0])]),
+                                 lambda a, b: np.array([a[0], b[0]]), x,
+                                 np.vstack([4.0 * np.sin(np.pi * x), 4.0 * np.pi * np.cos(np.pi * x)]),
+                                 tol=1e-8).status
+                 for x in (np.linspace(0.0, 1.0, n) for n in (11, 21, 41, 81, 161, 321))]
+print(f"scipy with its default max_nodes = 1000, upper branch from 11 to 321 points: status 1 "
+      f"(node limit) in {sum(v == 1 for v in default_limit)} of {len(default_limit)} runs")
+per_node_range = [float(f"{v:.0e}") for v in (np.nanmin(per_node), np.nanmax(per_node))]
+print(f"at the nodes scipy used, our error is {outputs.plain(per_node_range[0], 1)} to "
+      f"{outputs.plain(per_node_range[1], 1)} times scipy's")
+linear = splinestep.solve_bvp(lambda t, y, yp: y, np.linspace(0.0, 1.0, 101), 0.0, 1.0,
+                              tol=np.inf)
+linear_error = np.max(np.abs(linear.y[0] - np.sinh(linear.t) / np.sinh(1.0)))
+print(f"y'' = y, y(0) = 0, y(1) = 1 on 101 points: {linear.niter} Newton iterations, error "
+      f"{outputs.plain(linear_error)} (exact sinh x / sinh 1)")
+no_solution = splinestep.solve_bvp(fun, np.linspace(0.0, 1.0, 41), 0.0, 0.0, args=(4.0,))
+print(f"Bratu with lambda = 4 > {problems.boundary.LAMBDA_CRITICAL:.4f} (no solution): "
+      f"status {no_solution.status}")
+
+fig, (ax, bx) = plt.subplots(1, 2, figsize=(outputs.WIDTH, 3.6))
+x_fine = np.linspace(0.0, 1.0, 201)
+for branch, amplitude, color in (("lower", 0.1, "C0"), ("upper", 4.0, "C3")):
+    fun, jac, args, exact = problems.bratu(1.0, branch)
+    x = np.linspace(0.0, 1.0, 21)
+    res = splinestep.solve_bvp(fun, x, 0.0, 0.0, y_guess=amplitude * np.sin(np.pi * x)[None],
+                               args=args, tol=np.inf)
+    ax.plot(x_fine, exact(x_fine)[0], "k-", linewidth=1,
+            label="exact" if branch == "lower" else None)
+    ax.plot(x, res.y[0], "o", color=color, markersize=4, label=f"{branch} branch, 21 points")
+    g = bvp_table[bvp_table.branch == branch]
+    bx.loglog(g.points, g.error, "o-", color=color, markersize=4, label=f"spline, {branch}")
+    bx.loglog(g.scipy_points, g.scipy_error, "x", color=color, markersize=6,
+              label=f"scipy, {branch}")
+ax.set_xlabel("$x$")
+ax.set_ylabel("$y$")
+ax.set_title("Bratu, $\\lambda = 1$")
+ax.set_ylim(-0.2, 5.8)
+ax.legend(loc="upper left", fontsize=outputs.MIN_FONT)
+bx.set_xlabel("nodes used")
+bx.set_ylabel("max error")
+bx.set_title("Error against the exact solutions")
+bx.set_ylim(1e-17, 1.0)   # room below the points for the key
+bx.legend(loc="lower left", ncol=2, fontsize=outputs.MIN_FONT)
+outputs.save_figure(fig, "bvp-bratu")
+
+# %%
+outputs.say(
+    f"Both branches are found from their guesses, at order {bvp_orders['lower']:.2f} (lower) "
+    f"and {bvp_orders['upper']:.2f} (upper) in the mesh width, in "
+    f"{bvp_table.newton_iterations.min()} to {bvp_table.newton_iterations.max()} Newton "
+    f"iterations; the ratio of successive errors gives "
+    f"{min(v.min() for v in bvp_successive.values()):.2f} to "
+    f"{max(v.max() for v in bvp_successive.values()):.2f}.  scipy's `solve_bvp` is of fourth "
+    f"order and refines its mesh until its residual meets the tolerance: given room (all "
+    f"runs end with status {int(bvp_table.scipy_status.max())}), it uses "
+    f"{bvp_table.scipy_points.min()} to {bvp_table.scipy_points.max()} nodes and reaches errors "
+    f"of {outputs.sci(bvp_table.scipy_error.min(), 1)} to "
+    f"{outputs.sci(bvp_table.scipy_error.max(), 1)}; at the same number of nodes our error is "
+    f"{outputs.sci(per_node_range[0], 1)} to {outputs.sci(per_node_range[1], 1)} times "
+    f"larger.  scipy is the better solver for this problem, per node and overall; the spline "
+    f"collocation is the simpler method and converges at second order.  A problem without "
+    f"solution (Bratu at $\\lambda = 4$) ends with status {no_solution.status} and a message, "
+    f"not an exception.")
+
+# %% [markdown]
+# ### A tolerance on the solution
+# Newton's method converging says only that the equations of one mesh are
+# solved.  `solve_bvp(..., tol=)` also estimates the error of $y$: it solves
+# again on the mesh with every interval halved, and, the method being of
+# order 2, takes $\tfrac43 (y_h - y_{h/2})$ as the error of $y_h$; while that
+# exceeds tol (relative to $\max(1, \max|y|)$) it halves the mesh, up to
+# `max_nodes`.  Below, the lower Bratu branch from 11 points, and the
+# resonant problem $y'' = -y$, $y(0) = 0$, $y(\pi) = 1$, which has no solution
+# ($\sin$ vanishes at both ends): every mesh up to 1281 points has a
+# discrete solution, and Newton converges on each.
+
+# %%
+fun, jac, args, exact = problems.bratu(1.0, "lower")
+tolerance_rows = []
+for tol in (1e-3, 1e-6, 1e-9):
+    res = splinestep.solve_bvp(fun, np.linspace(0.0, 1.0, 11), 0.0, 0.0, args=args, tol=tol,
+                               max_nodes=100_000)
+    tolerance_rows.append(dict(tol=tol, points=res.t.size, estimated_error=res.error_estimate,
+                               true_error=np.max(np.abs(res.y[0] - exact(res.t)))))
+bvp_tolerance = pd.DataFrame(tolerance_rows)
+outputs.save_data(bvp_tolerance, "bvp-tolerance")
+bvp_tolerance.assign(tol=bvp_tolerance.tol.map("{:.0e}".format),
+                     estimated_error=bvp_tolerance.estimated_error.map("{:.2e}".format),
+                     true_error=bvp_tolerance.true_error.map("{:.2e}".format))
+
+# %%
+resonant = splinestep.solve_bvp(lambda x, y, yp: -y, np.linspace(0.0, np.pi, 11), 0.0, 1.0)
+print(f"y'' = -y, y(0) = 0, y(pi) = 1: status {resonant.status}, {resonant.t.size} mesh "
+      f"points, max |y| = {outputs.plain(np.max(np.abs(resonant.y)), 1)}")
+print(resonant.message)
