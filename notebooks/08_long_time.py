@@ -324,25 +324,27 @@ agreement = np.max(np.abs(converged.drift_from_passages / converged.drift_from_a
 assert agreement < 1e-2, agreement
 phase_ratio = phase.loc["spline", "drift_from_angle"] / phase.loc["Verlet", "drift_from_angle"]
 print(f"the two ways agree to {agreement:.0e} (relative); spline / Verlet = {phase_ratio:.2f}")
+sweep_phase = phase.loc["spline, 1 sweep"]
+print(f"lag per orbit: spline {-phase.loc['spline', 'drift_from_angle']:.2e} rad, Verlet "
+      f"{-phase.loc['Verlet', 'drift_from_angle']:.2e} rad; one sweep: the two ways agree to "
+      f"{abs(sweep_phase.drift_from_passages / sweep_phase.drift_from_angle - 1):.0e}, "
+      f"its mean period is short by {-sweep_phase.period_error:.1e}")
 
-# %%
-outputs.say(
-    f"Both methods lag: the spline by {outputs.sci(-phase.loc['spline', 'drift_from_angle'])} "
-    f"rad per orbit, Verlet by {outputs.sci(-phase.loc['Verlet', 'drift_from_angle'])}, the "
-    f"spline {phase_ratio:.2f} times as much, and the two measurements agree to a relative "
-    f"{outputs.sci(agreement, 1)}.  The oscillator's picture of period "
-    f"errors equal and opposite to leading order does not carry over: both computed periods are too long "
-    f"($T_h/T - 1$ is {outputs.sci(phase.loc['spline', 'period_error'])} and "
-    f"{outputs.sci(phase.loc['Verlet', 'period_error'])}), and what is equal and opposite "
-    f"is the turn of the periapsis, {outputs.sci(phase.loc['spline', 'precession_per_orbit'])} "
-    f"and {outputs.sci(phase.loc['Verlet', 'precession_per_orbit'])} rad per orbit.  With one "
-    f"sweep per step there is no constant rate to measure: the energy drifts down, the orbit "
-    f"shrinks and the period shortens from orbit to orbit, so that over these 200 orbits the "
-    f"mean period is too short ($T_h/T - 1$ = "
-    f"{outputs.sci(phase.loc['spline, 1 sweep', 'period_error'])}) and the body gains "
-    f"{outputs.sci(phase.loc['spline, 1 sweep', 'drift_from_angle'])} rad per orbit on "
-    f"average; over a shorter window both means differ, and the two ways of measuring agree "
-    f"only to {outputs.sci(abs(phase.loc['spline, 1 sweep', 'drift_from_passages'] / phase.loc['spline, 1 sweep', 'drift_from_angle'] - 1), 1)}.")
+# %% [markdown]
+# Both methods lag: the spline by $5.9 \times 10^{-4}$ rad per orbit,
+# Verlet by $3.5 \times 10^{-4}$, the spline 1.68 times as much, and the
+# two measurements agree to a relative $5 \times 10^{-4}$.  The
+# oscillator's picture of period errors equal and opposite to leading order
+# does not carry over: both computed periods are too long ($T_h/T - 1$ is
+# $9.8 \times 10^{-5}$ and $5.2 \times 10^{-5}$), and what is equal and
+# opposite is the turn of the periapsis, $2.3 \times 10^{-5}$ and
+# $-2.3 \times 10^{-5}$ rad per orbit.  With one sweep per step there is no
+# constant rate to measure: the energy drifts down, the orbit shrinks and
+# the period shortens from orbit to orbit, so that over these 200 orbits
+# the mean period is too short (by $8.7 \times 10^{-5}$ of the period) and
+# the body gains $5.7 \times 10^{-4}$ rad per orbit on average; over a
+# shorter window both means differ, and the two ways of measuring agree
+# only to $9 \times 10^{-3}$.
 
 # %% [markdown]
 # ## The rigid body: why its energy error drifts
@@ -382,17 +384,18 @@ print(f"|delta| growth ratio over eight parts of t in [0, 800]: {delta_growth:.1
 print(f"mean of sum I w delta: {mean_rate:.2e}; fitted drift of E: {fitted_drift:.2e} per unit time")
 print(f"E - E0 against the trapezoidal integral of sum I w delta: mismatch "
       f"~1e{np.log10(mismatch):.0f} of max |E - E0| (quadrature error)")
-outputs.say(
-    f"Over $t \\in [0, 800]$ the energy error equals the integral of "
-    f"$\\sum_i I_i\\omega_i\\delta_i$ to the trapezoidal rule's accuracy: that is the identity "
-    f"above at work (it checks the bookkeeping, not a prediction).  What it explains is "
-    f"measured separately: the deviation $\\delta$ itself stays bounded (growth ratio "
-    f"{delta_growth:.1f} over eight equal "
-    f"parts; about 1 is bounded, 8 linear), but its component along $I\\omega$ has a nonzero "
-    f"mean, {outputs.sci(mean_rate)} per unit time, and that is the energy's fitted drift "
-    f"({outputs.sci(fitted_drift)}).  Nothing in $\\omega'' = f(\\omega)$ pulls the solution back "
-    f"to the manifold $\\omega' = G(\\omega)$ or makes that mean vanish; a method that stepped "
-    f"Euler's first-order equations would keep $\\delta = 0$.")
+# %% [markdown]
+# Over $t \in [0, 800]$ the energy error equals the integral of
+# $\sum_i I_i\omega_i\delta_i$ to the trapezoidal rule's accuracy: that is
+# the identity above at work (it checks the bookkeeping, not a
+# prediction).  What it explains is measured separately: the deviation
+# $\delta$ itself stays bounded (growth ratio 1.0 over eight equal parts;
+# about 1 is bounded, 8 linear), but its component along $I\omega$ has a
+# nonzero mean, $6.2 \times 10^{-9}$ per unit time, and that is the
+# energy's fitted drift ($6.2 \times 10^{-9}$).  Nothing in
+# $\omega'' = f(\omega)$ pulls the solution back to the manifold
+# $\omega' = G(\omega)$ or makes that mean vanish; a method that stepped
+# Euler's first-order equations would keep $\delta = 0$.
 
 
 # %% [markdown]
@@ -429,18 +432,23 @@ per_step = (one_sweep_cost.nfev.to_numpy() - 1) / (50.0 / one_sweep_cost.dt.to_n
 print(f"spline with one sweep: {per_step.min():.2f} to {per_step.max():.2f} evaluations per step "
       f"after the first (Verlet: "
       f"{((verlet_cost.nfev.to_numpy() - 1) / (50.0 / verlet_cost.dt.to_numpy())).max():.2f})")
-outputs.say(
-    f"At the same step the spline's error is {outputs.span((step_ratio.min(), step_ratio.max()), decimals=2)} "
-    f"times Verlet's at every step size: a constant factor, not 1.  The two methods' error "
-    f"constants are equal and opposite ($\\mp 1/12$), which on the oscillator gives period errors "
-    f"equal and opposite to leading order ($\\pm x^2/24$; the $x^4$ terms have the same sign), but on this orbit the spline's phase drifts {phase_ratio:.2f} "
-    f"times as fast as Verlet's (the 10,000 orbits above), which accounts for much, not all, of the factor "
-    f"over $t \\in [0, 50]$.  This is one orbit, $\\mu = 0.6$; other orbits give other "
-    f"factors.  At equal evaluations Verlet wins here: the converged spline's "
-    f"error is {ratios['spline'][0]:.1f} to {ratios['spline'][1]:.1f} times Verlet's.  With "
-    f"one sweep per step the spline evaluates $F$ once per step, as Verlet does (and "
-    f"{3 * (2 * ellipse.y0.size + 1)} times more per run for its step-size check), and its "
-    f"error is "
-    f"{outputs.span(ratios['spline (1 sweep)'], decimals=1)} times Verlet's.  Iterated to convergence, the spline stepper is Verlet in other variables "
-    f"and buys nothing over it for $y'' = f(y)$ but its extra cost; its difference is that it "
-    f"handles $F(t, y, y')$ implicitly.")
+print(f"at the same step: spline error / Verlet error {step_ratio.min():.2f} to "
+      f"{step_ratio.max():.2f}; the step-size check adds {3 * (2 * ellipse.y0.size + 1)} "
+      f"evaluations per run")
+
+# %% [markdown]
+# At the same step the spline's error is about 1.84 times Verlet's at
+# every step size: a constant factor, not 1.  The two methods' error
+# constants are equal and opposite ($\mp 1/12$), which on the oscillator
+# gives period errors equal and opposite to leading order ($\pm x^2/24$;
+# the $x^4$ terms have the same sign), but on this orbit the spline's phase
+# drifts 1.68 times as fast as Verlet's (the 10,000 orbits above), which
+# accounts for much, not all, of the factor over $t \in [0, 50]$.  This is
+# one orbit, $\mu = 0.6$; other orbits give other factors.  At equal
+# evaluations Verlet wins here: the converged spline's error is 7.4 to
+# 19.4 times Verlet's.  With one sweep per step the spline evaluates $F$
+# once per step, as Verlet does (and 15 times more per run for its
+# step-size check), and its error is about 1.8 times Verlet's.  Iterated to
+# convergence, the spline stepper is Verlet in other variables and buys
+# nothing over it for $y'' = f(y)$ but its extra cost; its difference is
+# that it handles $F(t, y, y')$ implicitly.
