@@ -241,41 +241,43 @@ print(f"RK4, same work: energy error {d.loc['RK4, same work', 'energy_error_star
       f"+ {d.loc['RK4, same work', 'energy_drift_per_orbit']:.2e} (orbit - 1); reaches the "
       f"spline's {d.loc['spline', 'final_energy_error']:.1e} near orbit "
       f"{outputs.round_sig(rk4_crossing, 2):,.0f}")
-outputs.say(
-    f"Over the 10,000 orbits the spline's energy error does not grow (fitted growth exponent "
-    f"{outputs.signed(d.loc['spline', 'energy_exponent'])}; Verlet "
-    f"{outputs.signed(d.loc['Verlet', 'energy_exponent'])}), and its modified energy "
-    f"$\\tilde H$ of notebook 06 varies by {outputs.sci(spline_windows.modified_energy_error.max())} "
-    f"only, an $O(h^4)$ quantity: the bounded error is the conjugacy's modified energy at work.  "
-    f"Its angular momentum $q \\times v$ oscillates without drift (exponent "
-    f"{outputs.signed(d.loc['spline', 'momentum_exponent'])}) and "
-    f"$(1 + h^2\\mu/6r^3)\\, q \\times v$ is constant to rounding level "
-    f"({outputs.sci(spline_windows.modified_momentum_error.max())}, set by the step "
-    f"equation's tolerance $10^{{-12}}$ and rounding).  RK4 at the same work "
-    f"drifts linearly from the first orbit: at its own steps its energy error in orbit $k$ is "
-    f"{outputs.sci(d.loc['RK4, same work', 'energy_error_start'], 3)} $+$ "
-    f"{outputs.sci(d.loc['RK4, same work', 'energy_drift_per_orbit'], 3)} $\\times (k - 1)$ "
-    f"(fitted exponent {d.loc['RK4, same work', 'energy_exponent']:.2f} from orbit "
-    f"{GROWTH_FROM} on).  It reaches {outputs.sci(rk4_work_final)} after 10,000 orbits, still "
-    f"below the spline's {outputs.sci(d.loc['spline', 'final_energy_error'])}; continued on "
-    f"that line it would reach the spline's error near orbit "
-    f"{outputs.round_sig(rk4_crossing, 2):,.0f}, an extrapolation "
-    f"{outputs.round_sig(rk4_crossing / ORBITS, 1):.0f} times past the run.  "
-    f"One fixed-point sweep per step is not the same method over long times: its energy "
-    f"error grows from {outputs.sci(sweep_first)} in the first orbit to "
-    f"{outputs.sci(sweep_row.final_energy_error)} in the last (exponent "
-    f"{sweep_row.energy_exponent:.2f}, a linear drift of "
-    f"{outputs.sci(sweep_row.energy_drift_per_orbit)} per orbit), because the unconverged "
-    f"step is neither symmetric nor the conjugate of Verlet.  "
-    f"DOP853 at rtol {dop_tol:.0e}, of the tolerances tried ($10^{{-4}}$ to $10^{{-7}}$) the "
-    f"one whose first-orbit error is closest to the spline's (it is "
-    f"{outputs.round_sig(np.exp(min(dop_choice)[0]), 2):.0f} times smaller), is not a run at equal work: it evaluates $F$ about "
-    f"{outputs.round_sig(evaluations_per_orbit[dop_label], 1):.0f} times per orbit against the "
-    f"spline's {outputs.round_sig(evaluations_per_orbit['spline'], 2):,.0f}, and its energy "
-    f"error drifts with exponent {d.loc[dop_label, 'energy_exponent']:.1f} over its 1,000 "
-    f"orbits.  What is measured is the absence of drift over $10^4$ orbits; the theorem "
-    f"behind it (Hairer, Lubich and Wanner, Ch. IX) asks for an analytic Hamiltonian on a "
-    f"bounded region, which the Kepler problem is only away from $r = 0$.")
+print(f"RK4, same work: fitted exponent {d.loc['RK4, same work', 'energy_exponent']:.2f} from "
+      f"orbit {GROWTH_FROM} on, {rk4_work_final:.1e} after {ORBITS:,} orbits, the spline's "
+      f"error reached {outputs.round_sig(rk4_crossing / ORBITS, 1):.0f} times past the run")
+print(f"spline, 1 sweep: energy error {sweep_first:.1e} in the first orbit, "
+      f"{sweep_row.final_energy_error:.1e} in the last (exponent {sweep_row.energy_exponent:.2f}, "
+      f"{sweep_row.energy_drift_per_orbit:.1e} per orbit)")
+print(f"{dop_label}: first-orbit error {outputs.round_sig(np.exp(min(dop_choice)[0]), 2):.0f} "
+      f"times smaller than the spline's; energy-error exponent "
+      f"{d.loc[dop_label, 'energy_exponent']:.1f} over its {DOP_ORBITS:,} orbits")
+
+# %% [markdown]
+# Over the 10,000 orbits the spline's energy error does not grow (fitted
+# growth exponent +0.00; Verlet +0.00), and its modified energy $\tilde H$
+# of notebook 06 varies by $2.2 \times 10^{-11}$ only, an $O(h^4)$
+# quantity: the bounded error is the conjugacy's modified energy at work.
+# Its angular momentum $q \times v$ oscillates without drift (exponent
+# +0.00) and $(1 + h^2\mu/6r^3)\, q \times v$ is constant to rounding level
+# ($2.9 \times 10^{-12}$, set by the step equation's tolerance $10^{-12}$
+# and rounding).  RK4 at the same work drifts linearly from the first
+# orbit: at its own steps its energy error in orbit $k$ is
+# $1.46 \times 10^{-10} + 1.60 \times 10^{-11} \times (k - 1)$ (fitted
+# exponent 0.99 from orbit 100 on).  It reaches $1.6 \times 10^{-7}$ after
+# 10,000 orbits, still below the spline's $6.5 \times 10^{-6}$; continued
+# on that line it would reach the spline's error near orbit 410,000, an
+# extrapolation 40 times past the run.  One fixed-point sweep per step is
+# not the same method over long times: its energy error grows from
+# $6.4 \times 10^{-6}$ in the first orbit to $1.2 \times 10^{-3}$ in the
+# last (exponent 1.01, a linear drift of $1.2 \times 10^{-7}$ per orbit),
+# because the unconverged step is neither symmetric nor the conjugate of
+# Verlet.  DOP853 at rtol $10^{-4}$, of the tolerances tried ($10^{-4}$ to
+# $10^{-7}$) the one whose first-orbit error is closest to the spline's
+# (it is 52 times smaller), is not a run at equal work: it evaluates $F$
+# about 200 times per orbit against the spline's 9,200, and its energy
+# error drifts with exponent 0.9 over its 1,000 orbits.  What is measured
+# is the absence of drift over $10^4$ orbits; the theorem behind it
+# (Hairer, Lubich and Wanner, Ch. IX) asks for an analytic Hamiltonian on
+# a bounded region, which the Kepler problem is only away from $r = 0$.
 
 # %% [markdown]
 # ### Phase
