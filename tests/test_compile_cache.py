@@ -154,3 +154,19 @@ def test_two_processes_saving_two_signatures_at_once_keep_each_its_own_code(tmp_
         writer.join()
     assert [cache_file().load(key) for key in ("a", "b")] == [("code for", "a"),
                                                               ("code for", "b")]
+
+
+def test_a_file_system_without_locks_saves_and_loads_as_numba_does(tmp_path, monkeypatch):
+    """Where flock fails (some NFS, SMB or FUSE mounts: ENOLCK), the cache
+    is saved and loaded without a lock, as numba itself does, not refused."""
+    import errno
+
+    from numba.core import caching
+
+    def no_locks(handle, mode):
+        raise OSError(errno.ENOLCK, "No locks available")
+
+    monkeypatch.setattr(_compile.fcntl, "flock", no_locks)
+    cache_file = caching.IndexDataCacheFile(str(tmp_path), "loop", _compile.PACKAGE_STAMP)
+    cache_file.save("key", ("code for", "key"))
+    assert cache_file.load("key") == ("code for", "key")

@@ -41,8 +41,16 @@ POWER = re.compile(r"(?<![\d.])10\^\{?(-?\d+)\}?")
 NUMBER = re.compile(r"(?<![\w.\\^_{])(-?\d+(?:\.\d+)?(?:e[-+]?\d+)?)(%?)(?![\w])")
 
 
+_SUPERSCRIPT_DIGITS = str.maketrans("\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079",
+                                    "-0123456789")
+# Printed lines write powers as plain text (scripts/outputs.plain): 7.2 × 10⁻⁶.
+PLAIN_POWER = re.compile("(\\d+(?:\\.\\d+)?) \u00d7 10([\u207b\u2070\u00b9\u00b2\u00b3\u2074-\u2079]+)")
+
+
 def numbers_in(text):
     """(value, significant digits, as written) for each number in ``text``."""
+    text = PLAIN_POWER.sub(lambda m: f"{m.group(1)} \\times 10^{{{m.group(2).translate(_SUPERSCRIPT_DIGITS)}}}",
+                           text)
     text = REFERENCE.sub(" ", text)
     found = []
     for match in SCIENTIFIC.finditer(text):

@@ -90,8 +90,8 @@ caching.CacheImpl._locator_classes[:0] = [_UserProvided, _InTree, _UserWide]
 # the other's machine code, and the next process that loads it calls code
 # compiled for other argument types (a segmentation fault).  For this
 # package's functions, saving and loading hold a lock on the index, so each
-# is one step as other processes see it.  (No lock where the platform has
-# no fcntl.)
+# is one step as other processes see it.  Where the platform has no fcntl
+# (Windows) or the file system no locks, numba's behaviour is kept: no lock.
 try:
     import fcntl
 except ImportError:   # pragma: no cover
@@ -100,20 +100,37 @@ except ImportError:   # pragma: no cover
 
 @contextlib.contextmanager
 def _index_locked(cache_file, mode):
-    mine = fcntl is not None and cache_file._source_stamp == PACKAGE_STAMP
-    try:
-        handle = open(cache_file._index_path + ".lock", "a") if mine else None
-    except OSError:   # no cache folder yet (nothing to load) or not writable
-        handle = None
-    if handle is None:
+    handle = _lock_file(cache_file) if fcntl is not None else None
+    if handle is not None:
+        try:
+            fcntl.flock(handle, mode)
+        except OSError:   # a file system without locks (some NFS, SMB, FUSE mounts)
+            handle.close()
+            handle = None
+    if handle is None:   # numba's own behaviour: no lock
         yield
         return
     with handle:
-        fcntl.flock(handle, mode)
         try:
             yield
         finally:
             fcntl.flock(handle, fcntl.LOCK_UN)
+
+
+def _lock_file(cache_file):
+    """The open lock file of a package function's cache index, or None (a
+    function outside the package, or no cache folder yet: nothing to load).
+    A lock file another user owns, which cannot be opened for writing, is
+    locked through a read-only handle (flock does not need write access)."""
+    if cache_file._source_stamp != PACKAGE_STAMP:
+        return None
+    path = cache_file._index_path + ".lock"
+    for mode in ("a", "r"):
+        try:
+            return open(path, mode)
+        except OSError:
+            continue
+    return None
 
 
 _numba_save = caching.IndexDataCacheFile.save
