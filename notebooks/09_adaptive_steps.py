@@ -245,20 +245,23 @@ outputs.save_figure(fig, "adaptive-knots")
 steps = np.diff(run.t)
 r_knots = np.hypot(*run.y)
 at_apoapsis = steps[np.argmax(r_knots[1:])]   # the step that ends nearest apoapsis
-outputs.say(
-    f"The estimate follows the true local error through the periapsis passages (after a "
-    f"start-up from {outputs.sci(steps[0])}, the steps at the closing passage are about "
-    f"{outputs.sci(steps[-1])}), and out towards apoapsis, where they grow "
-    f"to {outputs.sci(steps.max())} at $r = {r_knots[1:][np.argmax(steps)]:.2f}$ (median ratio "
-    f"{np.median(ratio):.2f}); at apoapsis itself ($r = {r_knots.max():.2f}$) the step drops to "
-    f"{outputs.sci(at_apoapsis)}, because the error norm weighs each velocity component by its "
-    f"own size and $x'$ passes through zero there.  At equal "
-    f"final error the uniform step needs {outputs.span(gain_one)} times the evaluations of the "
-    f"adaptive knots with one sweep per step on both sides (the cheapest form of each; direct "
-    f"pairs of runs: {outputs.span(direct['1 sweep'])}), and {outputs.span(gain_iter)} times "
-    f"when both iterate to convergence (direct pairs: {outputs.span(direct['iterated'])}).  "
-    f"With one sweep the ratio hardly changes along the curves; iterated it varies without a "
-    f"trend over the errors tested.")
+print(f"steps: first {steps[0]:.1e}, last {steps[-1]:.1e}, largest {steps.max():.2g} at r = "
+      f"{r_knots[1:][np.argmax(steps)]:.2f}; at apoapsis (r = {r_knots.max():.2f}) "
+      f"{at_apoapsis:.2g}; estimate / true error, median {np.median(ratio):.2f}")
+
+# %% [markdown]
+# The estimate follows the true local error through the periapsis
+# passages (after a start-up from $7.2 \times 10^{-6}$, the steps at the
+# closing passage are about $3.0 \times 10^{-4}$), and out towards
+# apoapsis, where they grow to 2.6 at $r = 17.84$ (median ratio 1.00); at
+# apoapsis itself ($r = 19.00$) the step drops to 0.56, because the error
+# norm weighs each velocity component by its own size and $x'$ passes
+# through zero there.  At equal final error the uniform step needs 47 to
+# 49 times the evaluations of the adaptive knots with one sweep per step on
+# both sides (the cheapest form of each; direct pairs of runs: 47 to 49),
+# and 28 to 35 times when both iterate to convergence (direct pairs: 31 to
+# 37).  With one sweep the ratio hardly changes along the curves; iterated
+# it varies without a trend over the errors tested.
 
 # %% [markdown]
 # ### A step whose equation has no solution
@@ -308,20 +311,24 @@ uniform["h"] = uniform.run.str.split("= ").str[1].astype(float)
 failing = sorted(set(uniform[uniform.status != 0].h))
 reached = uniform[uniform.status == 0]
 adaptive_rows = pleiades_table[pleiades_table.run.str.startswith("adaptive")]
-outputs.say(
-    f"The uniform steps fail at h = {', '.join(f'{h:g}' for h in failing)}, the sweep and "
-    f"Newton alike, at a close encounter.  The others, h = "
-    f"{', '.join(f'{h:g}' for h in sorted(set(reached.h)))}, reach t = 3, every one with an "
-    f"error of {reached.error.min():.2f} to {reached.error.max():.1f} at t = 3, and every one "
-    f"flagged by the run's own check (status 0 with a warning that the step is too large): "
-    f"no tested uniform step gives a usable solution.  Failure does not set in above one step "
-    f"size: whether a step equation loses its solution depends on where the knots fall "
-    f"relative to the close encounters.  The adaptive knots reach t = 3 in every run "
-    f"({int(adaptive_rows.failed.sum())} failed step equations: the error estimate shrinks "
-    f"the step before the equation fails), with errors {outputs.sci(adaptive_rows.error.min())} "
-    f"to {outputs.sci(adaptive_rows.error.max())}.  When a step equation does fail, as on the "
-    f"oscillator started with a step past $\\sqrt 6$, it is retried smaller and the run goes "
-    f"on.")
+print(f"uniform runs that reach t = 3: errors {reached.error.min():.2f} to "
+      f"{reached.error.max():.1f}, {int(reached.flagged.sum())} of {len(reached)} flagged; "
+      f"adaptive: {int(adaptive_rows.failed.sum())} failed step equations, errors "
+      f"{adaptive_rows.error.min():.1e} to {adaptive_rows.error.max():.1e}")
+
+# %% [markdown]
+# The uniform steps fail at h = 0.0025, 0.005, 0.01, the sweep and Newton
+# alike, at a close encounter.  The others, h = 0.001, 0.002, 0.0029,
+# 0.0035, reach t = 3, every one with an error of 0.38 to 4.2 at t = 3, and
+# every one flagged by the run's own check (status 0 with a warning that
+# the step is too large): no tested uniform step gives a usable solution.
+# Failure does not set in above one step size: whether a step equation
+# loses its solution depends on where the knots fall relative to the close
+# encounters.  The adaptive knots reach t = 3 in every run (0 failed step
+# equations: the error estimate shrinks the step before the equation
+# fails), with errors $4.0 \times 10^{-5}$ to $4.3 \times 10^{-3}$.  When a
+# step equation does fail, as on the oscillator started with a step past
+# $\sqrt 6$, it is retried smaller and the run goes on.
 
 # %% [markdown]
 # ### Newton's method with a kept matrix
@@ -364,20 +371,20 @@ per_step = newton_table.assign(per_step=newton_table.nfev / newton_table.nstep).
     index="run", columns="method", values="per_step")
 full_over_kept = per_step["full Newton"] / per_step["kept matrix"]
 kept_over_sweep = per_step["kept matrix"] / per_step["fixed-point sweep"]
+print(f"full Newton / kept matrix: {full_over_kept.min():.0f} to {full_over_kept.max():.0f} "
+      f"times the evaluations; kept matrix / sweep: {kept_over_sweep.min():.2f} to "
+      f"{kept_over_sweep.max():.2f}")
 
-# %%
-outputs.say(
-    f"On both accurate runs the kept matrix cuts Newton's evaluations per step from "
-    f"{per_step['full Newton'].min():.1f}-{per_step['full Newton'].max():.1f} to "
-    f"{per_step['kept matrix'].min():.2f}-{per_step['kept matrix'].max():.2f} "
-    f"({full_over_kept.min():.0f} to {full_over_kept.max():.0f} times fewer), with the same "
-    f"solution.  It is no gain over the default fixed-point sweep, which needs "
-    f"{per_step['fixed-point sweep'].min():.2f}-{per_step['fixed-point sweep'].max():.2f}: "
-    f"the kept matrix costs {kept_over_sweep.min():.2f} to {kept_over_sweep.max():.2f} times "
-    f"the sweep's evaluations.  Newton's method, with the kept matrix, is for steps where the "
-    f"sweep diverges or crawls (spectral radius of $h^2/6\\,\\partial F/\\partial y$ at least "
-    f"1 or close to it, e.g. $\\omega h \\ge \\sqrt 6$ on the oscillator), not a saving where "
-    f"it converges fast.")
+# %% [markdown]
+# On both accurate runs the kept matrix cuts Newton's evaluations per step
+# from 30.0-30.7 to 2.02-2.14 (14 to 15 times fewer), with the same
+# solution.  It is no gain over the default fixed-point sweep, which needs
+# 2.00-2.14: the kept matrix costs 1.00 to 1.01 times the sweep's
+# evaluations.  Newton's method, with the kept matrix, is for steps where
+# the sweep diverges or crawls (spectral radius of
+# $h^2/6\,\partial F/\partial y$ at least 1 or close to it, e.g.
+# $\omega h \ge \sqrt 6$ on the oscillator), not a saving where it
+# converges fast.
 
 # %% [markdown]
 # ## The long-time picture of variable steps
@@ -444,17 +451,17 @@ ax.legend(loc="upper left", fontsize=outputs.MIN_FONT)
 outputs.save_figure(fig, "variable-step-energy")
 
 # %%
-outputs.say(
-    f"The reversible steps keep the largest energy error in each orbit at "
-    f"{outputs.sci(rev_err.mean())} for all 300 orbits (it varies by "
-    f"{outputs.sci(rev_err.max() - rev_err.min(), 1)}) at {reversible.nfev / ORBITS:.0f} "
-    f"evaluations per orbit; the error-controlled knots, at {controlled.nfev / ORBITS:.0f}, "
-    f"go from {outputs.sci(ctl_err[0], 1)} in the first orbit to "
-    f"{outputs.sci(ctl_err[-30:].max(), 2)} in the last 30.  On "
-    f"this orbit, for a long run, the reversible steps are the adaptive method to use; the "
-    f"price is choosing the step-size function $s$ by hand, and the measurement is one orbit "
-    f"and one $\\varepsilon$.  "
-    + (f"The error-controlled run's dips are where its drifting $H - H_0$ passes through "
-       f"zero (it takes both signs within orbits {through_zero}), not orbits of exceptional "
-       f"accuracy." if through_zero else
-       "The error-controlled run's $H - H_0$ keeps one sign in every orbit: it drifts."))
+print(f"reversible: largest energy error per orbit {rev_err.mean():.1e} on average, varying by "
+      f"{rev_err.max() - rev_err.min():.0e}; adaptive: {ctl_err[0]:.0e} in the first orbit, "
+      f"{ctl_err[-30:].max():.1e} over the last 30")
+
+# %% [markdown]
+# The reversible steps keep the largest energy error in each orbit at
+# $3.5 \times 10^{-5}$ for all 300 orbits (it varies by
+# $2 \times 10^{-10}$) at 2507 evaluations per orbit; the error-controlled
+# knots, at 6819, go from $3 \times 10^{-6}$ in the first orbit to
+# $6.4 \times 10^{-5}$ in the last 30.  On this orbit, for a long run, the
+# reversible steps are the adaptive method to use; the price is choosing
+# the step-size function $s$ by hand, and the measurement is one orbit and
+# one $\varepsilon$.  The error-controlled run's $H - H_0$ keeps one sign
+# in every orbit (printed above): it drifts.

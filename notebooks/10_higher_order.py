@@ -89,24 +89,19 @@ print(f"order 6: dt = 0.02 -> 0.01 divides the error by "
       f"the step equation solved to 1e-15 instead of 1e-12 the error is "
       f"{'within a factor 2 of' if 0.5 < tighter < 2 else 'not within a factor 2 of'} the "
       f"default's")
-slopes4 = orders_table[orders_table.order == 4].slope
-outputs.say(
-    f"Order 4 fits slopes {outputs.span((slopes4.min(), slopes4.max()), decimals=2)} on the "
-    f"four cannonball "
-    f"orbits and the rigid body, order 6 "
-    f"{orders_table[orders_table.order == 6].slope.min():.2f} to "
-    f"{orders_table[orders_table.order == 6].slope.max():.2f}; the successive differences of "
-    f"the runs, which do not use the exact solutions, give "
-    f"{outputs.span(orders_table[orders_table.order == 4].successive_slope.agg(['min', 'max']), decimals=2)} "
-    f"and {outputs.span(orders_table[orders_table.order == 6].successive_slope.agg(['min', 'max']), decimals=2)}.  "
-    f"On the ellipse at the report's "
-    f"step the largest position error falls from {outputs.sci(at_report_step[2])} (the "
-    f"report's method) to {outputs.sci(at_report_step[4])} and "
-    f"{outputs.sci(at_report_step[6])}.  The order-6 value is at a floor, not in the "
-    f"asymptotic range: halving the step from 0.02 divides the error by only "
-    f"{order6_floor[(0.02, 1e-12)] / at_report_step[6]:.0f}, and solving each step equation "
-    f"a thousand times more tightly does not lower it either.  It measures a floor of the "
-    f"run ({7 * (round(50 / 0.01) - 2) + 2 * 25:,} sub-steps), not the order.")
+print(f"the order-6 run at dt = 0.01: {7 * (round(50 / 0.01) - 2) + 2 * 25} sub-steps")
+
+# %% [markdown]
+# Order 4 fits slopes 3.98 to 4.00 on the four cannonball orbits and the
+# rigid body, order 6 5.79 to 6.02; the successive differences of the
+# runs, which do not use the exact solutions, give 3.98 to 4.00 and 5.71 to
+# 6.04.  On the ellipse at the report's step the largest position error
+# falls from $4.1 \times 10^{-3}$ (the report's method) to
+# $1.8 \times 10^{-7}$ and $1.4 \times 10^{-12}$.  The order-6 value is at
+# a floor, not in the asymptotic range: halving the step from 0.02 divides
+# the error by only 8, and solving each step equation a thousand times more
+# tightly does not lower it either.  It measures a floor of the run (35036
+# sub-steps), not the order.
 
 # %% [markdown]
 # ### Long time, and the cost against the other routes
@@ -257,39 +252,35 @@ bx.legend(loc="lower left", fontsize=outputs.MIN_FONT, ncol=3, handlelength=1.6,
 outputs.save_figure(fig, "composition")
 
 # %%
-c = comparison.set_index(["method", "baseline"])
-rich = c.loc[("spline, order 4", "Richardson (order 2 at h, h/2)")]
-rk4_4 = c.loc[("spline, order 4", "RK4")]
-rk4_6 = c.loc[("spline, order 6", "RK4")]
-dop_6 = c.loc[("spline, order 6", "scipy DOP853")]
-outputs.say(
-    f"The order-4 composition keeps the bounded energy error of the report's method over "
-    f"10,000 orbits, at a level {outputs.sci(growth['spline, order 2'].energy_error.max() / level_4)} "
-    f"times lower.  RK4 at the same work starts far lower and drifts, and passes the "
-    f"composition's level only from orbit {outputs.round_sig(crossing_sampled, 3):,.0f} (the "
-    f"line fitted to its linear drift: {outputs.round_sig(crossing_fitted, 3):,.0f}); at orbit "
-    f"{LONG_ORBITS:,} it is "
-    f"{rk4_long.energy_error.iloc[-1] / level_4:.1f} times the composition's.  The position "
-    f"error, which is what a user of the orbit sees, favours RK4: at the same work it is "
-    f"{outputs.sci(1 / position_ratio.iloc[0])} times smaller in the first orbit and "
-    f"{outputs.sci(1 / position_ratio.loc[100])} times in orbit 100; both runs have lost the "
-    f"phase by orbit {LONG_ORBITS:,} (position errors {outputs.sci(rk4_long.position_error.iloc[-1])} "
-    f"and {outputs.sci(growth['spline, order 4'].position_error.iloc[-1])} on an orbit of "
-    f"semi-major axis 3).  The composition is symmetric but not conjugate to Verlet (its "
-    f"sub-steps differ, so no single change of variables as in notebook 06 applies); its "
-    f"bounded energy is not explained by a conjugacy (reversible methods on integrable "
-    f"problems keep modified invariants nearly constant, Hairer, Lubich and Wanner Ch. XI, "
-    f"which we have not measured here).  To reach the same "
-    f"error over $t \\in [0, 50]$, Richardson extrapolation of the report's method, the "
-    f"classical route to order 4, needs {outputs.span((rich.ratio_min, rich.ratio_max), 2)} "
-    f"times the evaluations of the order-4 composition: the composition wins there.  RK4 needs "
-    f"{outputs.span((rk4_4.ratio_min, rk4_4.ratio_max), 2)} times the evaluations of order 4 "
-    f"(each composed step costs three implicit steps) and "
-    f"{outputs.span((rk4_6.ratio_min, rk4_6.ratio_max), 2)} times those of order 6; DOP853 "
-    f"{outputs.span((dop_6.ratio_min, dop_6.ratio_max), 2)} times those of order 6.  On this "
-    f"short run DOP853 wins against both compositions and RK4 against order 4, while order 6 "
-    f"costs about what RK4 does at low accuracy and less at high; over the long run RK4 stays ahead of order 4 in position "
-    f"until both have lost the phase, and the composition's one advantage over RK4 is an energy "
+print(f"energy level: order 2 / order 4 "
+      f"{growth['spline, order 2'].energy_error.max() / level_4:.0f}; RK4 / order 4 at orbit "
+      f"{LONG_ORBITS}: {rk4_long.energy_error.iloc[-1] / level_4:.1f}; position error, order 4 / "
+      f"RK4: {1 / position_ratio.iloc[0]:.0f} in the first orbit, "
+      f"{1 / position_ratio.loc[100]:.0f} in orbit 100")
 
-    f"error that does not grow, which at this work pays only beyond about "
-    f"{outputs.round_sig(crossing_sampled, 2):,.0f} orbits.")
+# %% [markdown]
+# The order-4 composition keeps the bounded energy error of the report's
+# method over 10,000 orbits, at a level 356 times lower.  RK4 at the same
+# work starts far lower and drifts, and passes the composition's level
+# only from orbit 4290 (the line fitted to its linear drift: 4290); at
+# orbit 10,000 it is 2.3 times the composition's.  The position error,
+# which is what a user of the orbit sees, favours RK4: at the same work it
+# is 792 times smaller in the first orbit and 78 times in orbit 100; both
+# runs have lost the phase by orbit 10,000 (position errors 4.3 and 4.2 on
+# an orbit of semi-major axis 3).  The composition is symmetric but not
+# conjugate to Verlet (its sub-steps differ, so no single change of
+# variables as in notebook 06 applies); its bounded energy is not explained
+# by a conjugacy (reversible methods on integrable problems keep modified
+# invariants nearly constant, Hairer, Lubich and Wanner Ch. XI, which we
+# have not measured here).  To reach the same error over $t \in [0, 50]$,
+# Richardson extrapolation of the report's method, the classical route to
+# order 4, needs 1.3 to 1.5 times the evaluations of the order-4
+# composition: the composition wins there.  RK4 needs 0.21 to 0.28 times
+# the evaluations of order 4 (each composed step costs three implicit
+# steps) and 0.98 to 1.6 times those of order 6; DOP853 0.065 to 0.077
+# times those of order 6.  On this short run DOP853 wins against both
+# compositions and RK4 against order 4, while order 6 costs about what RK4
+# does at low accuracy and less at high; over the long run RK4 stays ahead
+# of order 4 in position until both have lost the phase, and the
+# composition's one advantage over RK4 is an energy error that does not
+# grow, which at this work pays only beyond about 4300 orbits.
