@@ -1,6 +1,6 @@
 # splinestep: one command regenerates everything, one runs every test.
 #   make reproduce   build .venv from environment.txt, run all notebooks, write data/ and figures/,
-#                    build the paper (paper/splinestep.pdf)
+#                    build the paper (paper/splinestep.pdf); NB=03 (or NB="02 04") runs those only
 #   make paper       build the paper alone from data/ and figures/
 #   make test        build .venv, run pytest (package tests and nbval on every notebook)
 #   make bench       speed benchmark (compiled, plain Python, scipy, C)
@@ -45,7 +45,7 @@ $(FAST_IMPORT): $(STAMP)
 	touch $(FAST_IMPORT)
 
 reproduce: $(STAMP) $(FAST_IMPORT)
-	SPLINESTEP_JOBS=$(JOBS) $(BIN)/python scripts/reproduce.py
+	SPLINESTEP_JOBS=$(JOBS) $(BIN)/python scripts/reproduce.py $(NB)
 	$(BIN)/python scripts/paper.py --machine
 
 # The paper from the data and figures as they are (no notebook runs).

@@ -94,7 +94,10 @@ def execute(script, output_root=None, ready=None, abandon=None):
     env = dict(os.environ, MPLBACKEND="Agg")
     if output_root is not None:
         env["SPLINESTEP_OUTPUT"] = str(output_root)
+    # The kernel's own warnings (it listens on loopback TCP) are not the
+    # reader's business: only its errors are shown.
     options = dict(timeout=600, kernel_name="python3", record_timing=False,
+                   extra_arguments=["--IPKernelApp.log_level=ERROR"],
                    resources={"metadata": {"path": str(script.parent)}})
     if ready is None:
         client = NotebookClient(notebook, **options)
@@ -126,6 +129,8 @@ def _timed(script, output_root, ready=None, abandon=None):
     """(notebook, error, seconds); a held notebook's seconds count from
     ``ready``, when it could first read the others' data."""
     start = time.perf_counter()
+    if output_root is None:
+        print(f"{script.relative_to(ROOT)}: started", flush=True)
     try:
         notebook = execute(script, output_root, ready, abandon)
     except CellExecutionError as error:
@@ -190,11 +195,25 @@ def main(names=()):
     claims = ROOT / "data" / "claims.csv"
     if claims.exists():
         import pandas as pd
-        print("The report's claims (data/claims.csv):")
-        for row in pd.read_csv(claims).itertuples():
-            print(f"- [{row.where}] {row.claim}\n    measured: {row.measured}\n"
-                  f"    verdict:  {row.verdict}")
+        print(claims_summary(pd.read_csv(claims).verdict))
+    print("data: data/*.csv; figures: figures/*.png and .pdf; notebooks with outputs: "
+          "notebooks/*.ipynb; the claims table: README.md and data/claims.csv")
     return 0
+
+
+# The kinds of verdict, by how a verdict of data/claims.csv begins.
+VERDICTS = {"reproduced": "reproduced", "partly": "partly", "not reproduced": "not reproduced",
+            "built": "built", "proved": "proved", "a finding beyond": "beyond the report"}
+
+
+def claims_summary(verdicts):
+    """One line: how many of the report's claims each kind of verdict has
+    (by the verdict's first words; anything else counted as "other")."""
+    kinds = [next((name for start, name in VERDICTS.items() if v.startswith(start)), "other")
+             for v in verdicts]
+    counts = ", ".join(f"{kinds.count(k)} {k}" for k in (*VERDICTS.values(), "other")
+                       if kinds.count(k))
+    return f"{len(kinds)} claims of the report: {counts}"
 
 
 if __name__ == "__main__":
