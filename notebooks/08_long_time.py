@@ -283,7 +283,7 @@ print(f"{dop_label}: first-orbit error {outputs.round_sig(np.exp(min(dop_choice)
 # ### Phase
 # A bounded energy error is not a bounded position error: the computed body
 # runs ahead of or behind the exact one.  On the oscillator the two methods'
-# periods err by $\pm(\omega h)^2/24$ to leading order (section 3), in opposite
+# periods err by $\pm(\omega h)^2/24$ to leading order (notebook 06, section 3), in opposite
 # directions.
 # On the Kepler orbit we measure the drift of the polar angle per orbit in
 # two independent ways, over 200 orbits sampled at every step:
@@ -444,7 +444,7 @@ print(f"at the same step: spline error / Verlet error {step_ratio.min():.2f} to 
 # constants are equal and opposite ($\mp 1/12$), which on the oscillator
 # gives period errors equal and opposite to leading order ($\pm x^2/24$;
 # the $x^4$ terms have the same sign), but on this orbit the spline's phase
-# drifts 1.68 times as fast as Verlet's (the 10,000 orbits above), which
+# drifts 1.68 times as fast as Verlet's (measured above over 200 orbits), which
 # accounts for much, not all, of the factor over $t \in [0, 50]$.  This is
 # one orbit, $\mu = 0.6$; other orbits give other factors.  At equal
 # evaluations Verlet wins here: the converged spline's error is 7.4 to

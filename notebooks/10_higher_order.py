@@ -34,8 +34,8 @@ plt = outputs.setup()
 # step as three spline steps of sizes $\gamma_1 h, \gamma_2 h, \gamma_1 h$
 # with $\gamma_1 = 1/(2 - 2^{1/3})$, $\gamma_2 = -2^{1/3}/(2 - 2^{1/3})$
 # (Yoshida's triple jump; the middle step goes backwards), `order=6` as
-# seven (Yoshida's solution A).  Those sub-steps leave the step (to
-# $t + 1.35h$ and $t - 0.35h$), so a step that would evaluate $F$ outside
+# seven (Yoshida's solution A).  Those sub-steps leave the step (order 4's
+# reach $t + 1.35h$ and $t - 0.35h$), so a step that would evaluate $F$ outside
 # the span (the first and last of a uniform grid) takes Suzuki's compositions of the same order
 # instead (5 and 25 sub-steps, all inside the step).  Between knots the
 # quintic through the knots' values and first two derivatives keeps the
