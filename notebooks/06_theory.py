@@ -264,6 +264,7 @@ def bisect(predicate, lo, hi, steps=30):
     return 0.5 * (lo + hi)
 
 
+# %%
 xs = np.array([0.05, 0.1, 0.2])
 measured = np.array([measured_period_error(v) for v in xs])
 two_terms = np.array([float(period.subs(theory.x, v)) for v in xs])

@@ -85,6 +85,7 @@ def harmonic_error(k, h, t_end):
     return res.t, np.abs(res.y[0] - np.cos(res.t)), res
 
 
+# %%
 # h = 0.05; degrees 5 and 6 leave double precision within 1.5 time units
 degree_runs = {k: harmonic_error(k, 0.05, 1.5 if k > 4 else 30.0) for k in (3, 4, 5, 6)}
 growth = []
@@ -130,6 +131,7 @@ constants = [dict(quantity="degree 5: spurious root modulus 2 + sqrt(3)", derive
 roots_table["fitted_order_ellipse"] = [np.nan, quartic_slope, np.nan, np.nan]
 outputs.save_data(roots_table, "higher-degree-roots")
 
+# %%
 fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0))
 for k, style in ((3, "C0-"), (4, "C1-"), (5, "C3-"), (6, "C4-")):
     t, e, _ = degree_runs[k]

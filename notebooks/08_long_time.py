@@ -94,6 +94,7 @@ def per_window(method, t, y, yp):
         ["method", "orbit", *rows]]
 
 
+# %%
 t_end = ORBITS * period_T
 work, evaluations_per_orbit = {}, {}
 # The compiled loops release the GIL: the spline and Verlet runs go to two
@@ -127,6 +128,7 @@ dop = solve_ivp(first_order, (0.0, DOP_ORBITS * period_T), np.r_[ellipse.y0, ell
                 method="DOP853", rtol=dop_tol, atol=dop_tol * 1e-2)
 dop_label = f"DOP853, rtol {dop_tol:.0e}"
 
+# %%
 spline_long = spline_job.result()
 work["spline"] = spline_long.nfev / spline_long.nstep
 # RK4 with its step stretched so that it evaluates F as often as the spline.
@@ -204,6 +206,7 @@ spline_windows = long_time[long_time.method == "spline"]
 print(f"spline, modified energy H~: largest error {spline_windows.modified_energy_error.max():.1e}; "
       f"modified angular momentum: {spline_windows.modified_momentum_error.max():.1e}")
 
+# %%
 fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0), sharex=True)
 styles = {"spline": ("C0", "o"), "spline, 1 sweep": ("C1", "s"), "Verlet": ("C2", "^"),
           "RK4, same work": ("C3", "D")}

@@ -24,8 +24,6 @@ import warnings
 
 import numpy as np
 import pandas as pd
-from scipy.integrate import solve_bvp as scipy_solve_bvp
-from scipy.integrate import solve_ivp
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
@@ -33,7 +31,6 @@ import splinestep
 from splinestep import controllers, problems, step
 from matplotlib.lines import Line2D
 from splinestep.analysis import diagnostics, tolerance
-from splinestep.analysis.extrapolation import richardson
 
 plt = outputs.setup()
 

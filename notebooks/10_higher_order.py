@@ -12,15 +12,13 @@ import warnings
 
 import numpy as np
 import pandas as pd
-from scipy.integrate import solve_bvp as scipy_solve_bvp
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
 import splinestep
-from splinestep import controllers, problems, step
-from matplotlib.lines import Line2D
-from splinestep.analysis import diagnostics, tolerance
+from splinestep import problems
+from splinestep.analysis import diagnostics
 from splinestep.analysis.extrapolation import richardson
 
 plt = outputs.setup()
@@ -133,6 +131,7 @@ def at_steps(step):
     return step * np.round(wanted / step)
 
 
+# %%
 long_runs, flagged = {}, []
 for order in (2, 4):
     with warnings.catch_warnings(record=True) as caught:
@@ -226,6 +225,7 @@ for method, baseline in pairs:
 comparison = pd.DataFrame(comparison)
 outputs.save_data(comparison, "composition-ratios")
 
+# %%
 fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0))
 for method, g in growth.items():
     color = {"spline, order 2": "C0", "spline, order 4": "C2", "RK4, same work": "C3"}[method]

@@ -8,20 +8,16 @@
 
 # %%
 import sys
-import warnings
 
 import numpy as np
 import pandas as pd
 from scipy.integrate import solve_bvp as scipy_solve_bvp
-from scipy.integrate import solve_ivp
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
 import splinestep
-from splinestep import controllers, problems, step
-from matplotlib.lines import Line2D
-from splinestep.analysis import diagnostics, tolerance
-from splinestep.analysis.extrapolation import richardson
+from splinestep import problems
+from splinestep.analysis import diagnostics
 
 plt = outputs.setup()
 cases = {f"cannonball mu={mu:g}": problems.cannonball(mu) for mu in problems.CANNONBALL_MU}
@@ -163,6 +159,7 @@ no_solution = splinestep.solve_bvp(fun, np.linspace(0.0, 1.0, 41), 0.0, 0.0, arg
 print(f"Bratu with lambda = 4 > {problems.boundary.LAMBDA_CRITICAL:.4f} (no solution): "
       f"status {no_solution.status}")
 
+# %%
 fig, (ax, bx) = plt.subplots(1, 2, figsize=(outputs.WIDTH, 3.6))
 x_fine = np.linspace(0.0, 1.0, 201)
 for branch, amplitude, color in (("lower", 0.1, "C0"), ("upper", 4.0, "C3")):

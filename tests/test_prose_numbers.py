@@ -47,10 +47,14 @@ _SUPERSCRIPT_DIGITS = str.maketrans("\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\
 PLAIN_POWER = re.compile("(\\d+(?:\\.\\d+)?) \u00d7 10([\u207b\u2070\u00b9\u00b2\u00b3\u2074-\u2079]+)")
 
 
+def _as_latex(match):
+    exponent = match.group(2).translate(_SUPERSCRIPT_DIGITS)
+    return f"{match.group(1)} \\times 10^{{{exponent}}}"
+
+
 def numbers_in(text):
     """(value, significant digits, as written) for each number in ``text``."""
-    text = PLAIN_POWER.sub(lambda m: f"{m.group(1)} \\times 10^{{{m.group(2).translate(_SUPERSCRIPT_DIGITS)}}}",
-                           text)
+    text = PLAIN_POWER.sub(_as_latex, text)
     text = REFERENCE.sub(" ", text)
     found = []
     for match in SCIENTIFIC.finditer(text):

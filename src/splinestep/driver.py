@@ -39,15 +39,15 @@ one compilation, not one per method and controller, and no two compiled
 loops share a name (loops specialised by closure constants share their
 symbol names, which a process loading two of them from the disk cache, each
 compiled by another process, may link to the wrong one).  The run-time
-choice costs nothing measurable per evaluation (``make bench``).  The records the sweep's loop reads at every
-step hold numbers only (a composition's weights travel in ``Method`` to
-its step), and its vectors live in one buffer: an array passed
+choice costs nothing measurable per evaluation (``make bench``).  The
+records the sweep's loop reads at every step hold numbers only (a
+composition's weights travel in ``Method`` to its step), and its vectors
+live in one buffer: an array passed
 into a helper inside the loop, or an array rebound inside it (the knot
 arrays grow outside the stepping loop), costs reference counting at every
 step.
 """
 
-import functools
 from collections import namedtuple
 
 import numpy as np
