@@ -134,7 +134,7 @@ pd.DataFrame(cost, index=["adaptive / uniform evaluations, least", "most"]).T.ro
 # %%
 fig, (ax, bx) = plt.subplots(1, 2, figsize=(outputs.WIDTH, 4.4))
 markers = dict(zip(study, "osD^v"))
-colors = {"spline": "C0", "RK45": "C9", "DOP853": "C5"}   # DOP853 brown, as in 08 and 10
+colors = {"spline": "C0", "RK45": "C4", "DOP853": "C5"}   # as in 04 (and DOP853 in 08, 10)
 for (name, method), g in tolerance_table.groupby(["problem", "method"], sort=False):
     style = dict(color=colors[method], marker=markers[name], markersize=4, linewidth=1,
                  linestyle="-" if method == "spline" else ":")
