@@ -1,7 +1,11 @@
 # splinestep: one command regenerates everything, one runs every test.
-#   make reproduce   build .venv from environment.txt, run all notebooks, write data/ and figures/,
-#                    build the paper (paper/splinestep.pdf); NB=03 (or NB="02 04") runs those only
+#   make reproduce   build .venv from environment.txt, run the notebooks whose inputs or outputs
+#                    changed (all of them on a fresh clone), write data/ and figures/, build the
+#                    paper (paper/splinestep.pdf) and the website (build/site/index.html) if what
+#                    they are built from changed; NB=03 (or NB="02 04") runs those notebooks
 #   make paper       build the paper alone from data/ and figures/
+#   make site        build the website alone from the notebooks and the paper
+#   make browser     install Debian's chromium (root), which tests/test_site.py drives
 #   make test        build .venv, run pytest (package tests and nbval on every notebook)
 #   make bench       speed benchmark (compiled, plain Python, scipy, C)
 #   make lab         JupyterLab at the repository root, .py <-> .ipynb pairs active
@@ -21,7 +25,7 @@ export SOURCE_DATE_EPOCH := 0
 # what another CPU's rounding does (names not present on a CPU are ignored).
 EMULATED_CPU := NPY_DISABLE_CPU_FEATURES="AVX512_ICL AVX512_SPR X86_V4 X86_V3" NUMBA_CPU_NAME=generic
 
-.PHONY: reproduce paper test test-emulated bench lab env clean
+.PHONY: reproduce paper site browser test test-emulated bench lab env clean
 
 env: $(STAMP) $(FAST_IMPORT)
 
@@ -46,11 +50,18 @@ $(FAST_IMPORT): $(STAMP)
 
 reproduce: $(STAMP) $(FAST_IMPORT)
 	SPLINESTEP_JOBS=$(JOBS) $(BIN)/python scripts/reproduce.py $(NB)
-	$(BIN)/python scripts/paper.py --machine
 
 # The paper from the data and figures as they are (no notebook runs).
 paper: $(STAMP) $(FAST_IMPORT)
 	$(BIN)/python scripts/paper.py
+
+# The website alone, from the notebooks' stored outputs and the paper.
+site: $(STAMP) $(FAST_IMPORT)
+	$(BIN)/python scripts/build_site.py
+
+# The browser the website's test drives (Debian's; playwright downloads none).
+browser:
+	command -v chromium > /dev/null || { apt-get update -qq && apt-get install -y -qq chromium > /dev/null; }
 
 # Notebooks run at once by make reproduce, and pytest-xdist workers of make
 # test (each notebook's cells stay on one worker).
@@ -70,4 +81,4 @@ lab: $(STAMP) $(FAST_IMPORT)
 	$(BIN)/python scripts/lab.py
 
 clean:
-	rm -rf $(VENV) .pytest_cache
+	rm -rf $(VENV) .pytest_cache build

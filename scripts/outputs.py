@@ -38,6 +38,17 @@ METHOD_STYLE = {
 }
 MU_COLORS = {0.4: "C0", 0.5: "C1", 0.6: "C2", 1.0: "C4"}
 
+# With SPLINESTEP_MANIFEST set (by `make reproduce`), every file read or
+# written here is noted in that file, for scripts/freshness.py.
+_MANIFEST = os.environ.get("SPLINESTEP_MANIFEST")
+
+
+def _note(kind, path):
+    if _MANIFEST:
+        with open(_MANIFEST, "a") as manifest:
+            manifest.write(f"{kind} {Path(path).resolve()}\n")
+
+
 _PDF_METADATA = {"Creator": None, "Producer": None, "CreationDate": None}
 _PNG_METADATA = {"Software": None}
 
@@ -118,6 +129,8 @@ def save_figure(fig, name):
     FIGURES.mkdir(parents=True, exist_ok=True)
     fig.savefig(FIGURES / f"{name}.pdf", metadata=_PDF_METADATA)
     fig.savefig(FIGURES / f"{name}.png", metadata=_PNG_METADATA)
+    _note("wrote", FIGURES / f"{name}.pdf")
+    _note("wrote", FIGURES / f"{name}.png")
     plt.close(fig)
     try:
         from IPython.display import Image
@@ -132,11 +145,13 @@ def save_data(frame, name):
     DATA.mkdir(parents=True, exist_ok=True)
     frame.to_csv(DATA / f"{name}.csv", index=False, float_format="%.12g",
                  lineterminator="\n")
+    _note("wrote", DATA / f"{name}.csv")
 
 
 def read_data(name):
     """Read ``data/<name>.csv`` as written by :func:`save_data`."""
     import pandas as pd
+    _note("read", DATA / f"{name}.csv")
     return pd.read_csv(DATA / f"{name}.csv")
 
 

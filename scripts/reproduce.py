@@ -1,15 +1,19 @@
-"""Regenerate everything (or, given file-name prefixes such as ``02 04``, those
-notebooks): execute every notebook (rewriting its .ipynb outputs, data/ and
-figures/), one line per notebook with its wall time, then print the claims
-table.  A failing notebook stops the run.
+"""Regenerate what changed (or, given file-name prefixes such as ``02 04``,
+those notebooks): execute each notebook whose inputs or outputs changed
+since it last ran here (rewriting its .ipynb outputs, data/ and figures/;
+``scripts/freshness.py`` decides, on contents), one line per notebook with
+its wall time, then the paper and the website if what they are built from
+changed, and a one-line count of the claims' verdicts.  A failing notebook
+stops the run.
 
 The notebooks are independent, except those in ``LAST``, which read what the
-others write and run after them.  The others run ``JOBS`` at a time (each in
-its own kernel), longest first (``ORDER``); the lines are printed in the
-notebooks' order whatever order they finish in.  A notebook in ``LAST``
-starts its kernel and runs its first code cell (imports only: it must not
-read data/) at once, beside the others, and its other cells when they are
-done: the one step that must wait does not also wait for a kernel to start."""
+others write: they run after them, whenever one of the others ran.  The
+others run ``JOBS`` at a time (each in its own kernel), longest first
+(``ORDER``); the lines are printed in the notebooks' order whatever order
+they finish in.  A notebook in ``LAST`` starts its kernel and runs its first
+code cell (imports only: it must not read data/) at once, beside the others,
+and its other cells when they are done: the one step that must wait does
+not also wait for a kernel to start."""
 
 import asyncio
 import os
@@ -22,6 +26,8 @@ from pathlib import Path
 import jupytext
 from nbclient import NotebookClient
 from nbclient.exceptions import CellExecutionError
+
+import freshness
 
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.py"))
@@ -94,6 +100,11 @@ def execute(script, output_root=None, ready=None, abandon=None):
     env = dict(os.environ, MPLBACKEND="Agg")
     if output_root is not None:
         env["SPLINESTEP_OUTPUT"] = str(output_root)
+    else:  # what it reads and writes, noted for freshness.State
+        manifest = manifest_path(script)
+        manifest.parent.mkdir(parents=True, exist_ok=True)
+        manifest.unlink(missing_ok=True)
+        env["SPLINESTEP_MANIFEST"] = str(manifest)
     # The kernel's own warnings (it listens on loopback TCP) are not the
     # reader's business: only its errors are shown.
     options = dict(timeout=600, kernel_name="python3", record_timing=False,
@@ -108,6 +119,11 @@ def execute(script, output_root=None, ready=None, abandon=None):
         cell_outputs = cell.get("outputs", [])
         cell_outputs[:] = _coalesced(cell_outputs)
     return notebook
+
+
+def manifest_path(script):
+    """Where a run of ``script`` notes the files it reads and writes."""
+    return ROOT / "build" / "manifests" / f"{script.stem}.txt"
 
 
 def _coalesced(cell_outputs):
@@ -180,24 +196,87 @@ def execute_all(scripts, output_root=None, jobs=JOBS):
             ready.set()
 
 
+def to_run(state, names=()):
+    """The notebooks to run, each with why: those named (by file-name
+    prefix), or else those not up to date, and those in ``LAST`` whenever
+    another runs.  Prints a line for each notebook left as it is."""
+    if names:
+        return [(s, "asked for") for s in NOTEBOOKS if s.name.startswith(tuple(names))]
+    chosen = []
+    for script in NOTEBOOKS:
+        why = state.why_stale(script.stem, [script])
+        if why is None and script.stem in LAST and any(s.stem not in LAST for s, _ in chosen):
+            why = "the others' data may have changed"
+        if why is None:
+            print(f"{script.relative_to(ROOT)}: up to date", flush=True)
+        else:
+            chosen.append((script, why))
+    return chosen
+
+
+def _paper_sources():
+    return freshness.files(("paper/*.typ", "paper/*.bib", "paper/figure-sources.csv",
+                            "data/*.csv", "data/machine.txt", "figures/*.pdf",
+                            "scripts/paper.py", "environment.txt"))
+
+
+def _site_sources():
+    return freshness.files(("README.md", "notebooks/*.ipynb", "paper/splinestep.pdf",
+                            "paper/splinestep.typ", "figures/*.png", "website/*",
+                            "scripts/build_site.py", "environment.txt"))
+
+
+def build_if_stale(state, name, sources, build, output):
+    """Run ``build()`` (which returns a line to print) if ``name`` is not up
+    to date, and record it with its ``output`` file; else say so."""
+    why = state.why_stale(name, sources, common=False)
+    if why is None:
+        print(f"{output.relative_to(ROOT)}: up to date", flush=True)
+        return
+    print(build(), f"({why})", flush=True)
+    state.record(name, sources, outputs=[output], common=False)
+
+
 def main(names=()):
-    """Run every notebook, or those whose file names start with one of ``names``."""
+    """Run the notebooks :func:`to_run` chooses, then the paper and the site
+    if what they are built from changed."""
+    import paper
+    import build_site
     total = time.perf_counter()
-    scripts = [s for s in NOTEBOOKS if not names or s.name.startswith(tuple(names))]
-    for script, notebook, error, seconds in execute_all(scripts):
+    state = freshness.State()
+    chosen = to_run(state, names)
+    for script, why in chosen:
+        print(f"{script.relative_to(ROOT)}: runs ({why})", flush=True)
+    for script, notebook, error, seconds in execute_all([s for s, _ in chosen]):
         if error is not None:
+            state.forget(script.stem)
             print(f"FAILED {script.relative_to(ROOT)}:\n{error}", file=sys.stderr)
             return 1
-        jupytext.write(notebook, script.with_suffix(".ipynb"))
+        target = script.with_suffix(".ipynb")
+        jupytext.write(notebook, target)
+        reads, writes = freshness.read_manifest(manifest_path(script))
+        state.record(script.stem, [script], reads, [*writes, target])
         print(f"{script.relative_to(ROOT)}: {seconds:5.1f} s", flush=True)
-    print(f"all notebooks: {time.perf_counter() - total:5.1f} s ({JOBS} at a time)\n")
-    README.write_text(readme_with_tables(README.read_text(), ROOT / "data"))
+    if chosen:
+        print(f"{len(chosen)} notebooks run: {time.perf_counter() - total:5.1f} s "
+              f"({JOBS} at a time)")
+        README.write_text(readme_with_tables(README.read_text(), ROOT / "data"))
+        paper.MACHINE.write_text(paper.machine_description())
+    paper.FIGURE_SOURCES.write_text(paper.figure_sources())
+    build_if_stale(state, "paper", _paper_sources(),
+                   lambda: f"paper/splinestep.pdf: built in {paper.build():.1f} s", paper.PDF)
+    build_if_stale(state, "site", _site_sources(), lambda: "build/site/index.html: "
+                   "{1} pages built in {0:.1f} s".format(*build_site.build()),
+                   build_site.SITE / "index.html")
     claims = ROOT / "data" / "claims.csv"
+    print()
     if claims.exists():
         import pandas as pd
         print(claims_summary(pd.read_csv(claims).verdict))
     print("data: data/*.csv; figures: figures/*.png and .pdf; notebooks with outputs: "
-          "notebooks/*.ipynb; the claims table: README.md and data/claims.csv")
+          "notebooks/*.ipynb; the claims table: README.md and data/claims.csv; the paper: "
+          "paper/splinestep.pdf; the website: build/site/index.html "
+          f"({time.perf_counter() - total:.1f} s in all)")
     return 0
 
 

@@ -1,0 +1,120 @@
+"""Which outputs are up to date: content hashes, as make or snakemake decide
+staleness, but on contents, not file times (a fresh clone's times say
+nothing).
+
+A notebook is up to date when its inputs and its outputs hash as they did
+when ``make reproduce`` last ran it here.  Its inputs are its own source,
+the package (``src/``, with the analysis), the scripts it runs with
+(:data:`COMMON`), the environment (``environment.txt`` and the Python
+version) and every data file it read; its outputs are its ``.ipynb`` and
+every data file and figure it wrote.  What a notebook read and wrote is
+recorded as it runs (``scripts/outputs.py`` appends to the file named by
+``SPLINESTEP_MANIFEST``).  The record lives in ``build/reproduce-state.json``,
+which is not committed: a fresh clone runs everything.
+"""
+
+import hashlib
+import json
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+STATE = ROOT / "build" / "reproduce-state.json"
+# Inputs of every notebook besides its own source and what it reads.
+COMMON = ("src/**/*.py", "pyproject.toml", "environment.txt", "scripts/outputs.py",
+          "scripts/reproduce.py")
+
+
+def files(patterns, root=ROOT):
+    """The files matching ``patterns`` (globs relative to ``root``), sorted."""
+    found = set()
+    for pattern in patterns:
+        found.update(p for p in Path(root).glob(pattern) if p.is_file())
+    return sorted(found)
+
+
+def file_hash(path):
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def digest(paths, root=ROOT, extra=""):
+    """One hash of the names (relative to ``root``) and contents of ``paths``
+    and the text ``extra``; a missing file counts as its name alone."""
+    total = hashlib.sha256(extra.encode())
+    for path in sorted(Path(p) for p in paths):
+        total.update(str(path.relative_to(root)).encode() + b"\0")
+        total.update(path.read_bytes() if path.exists() else b"(missing)")
+    return total.hexdigest()
+
+
+def environment():
+    return f"Python {sys.version}"
+
+
+class State:
+    """The record of what ran: ``{name: {"inputs": hash, "reads": [paths],
+    "outputs": {path: hash}}}`` in ``build/reproduce-state.json``."""
+
+    def __init__(self, path=STATE, root=ROOT):
+        self.path, self.root = Path(path), Path(root)
+        try:
+            self.records = json.loads(self.path.read_text())
+        except (OSError, ValueError):
+            self.records = {}
+
+    def _inputs(self, sources, reads, common=True):
+        paths = (files(COMMON, self.root) if common else []) + [Path(s) for s in sources]
+        paths += [self.root / r for r in reads]
+        return digest(paths, self.root, environment())
+
+    def why_stale(self, name, sources, common=True):
+        """None if ``name`` is up to date, else why not (a short phrase).
+        ``sources`` are its own input files (absolute paths); with
+        ``common``, the files of :data:`COMMON` and the environment too."""
+        record = self.records.get(name)
+        if record is None:
+            return "never run here"
+        if self._inputs(sources, record["reads"], common) != record["inputs"]:
+            return "its inputs changed"
+        for path, expected in record["outputs"].items():
+            target = self.root / path
+            if not target.exists():
+                return f"{path} is missing"
+            if file_hash(target) != expected:
+                return f"{path} changed"
+        return None
+
+    def record(self, name, sources, reads=(), outputs=(), common=True):
+        """Note that ``name`` ran now, with these inputs and outputs (paths
+        relative to the root or absolute below it), and save the record."""
+        relative = [str(Path(p).resolve().relative_to(self.root)) if Path(p).is_absolute()
+                    else str(p) for p in reads]
+        relative = sorted(set(relative))
+        written = {}
+        for path in outputs:
+            path = Path(path) if Path(path).is_absolute() else self.root / path
+            written[str(path.relative_to(self.root))] = file_hash(path)
+        self.records[name] = {"inputs": self._inputs(sources, relative, common), "reads": relative,
+                              "outputs": written}
+        self.save()
+
+    def forget(self, name):
+        self.records.pop(name, None)
+        self.save()
+
+    def save(self):
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.path.write_text(json.dumps(self.records, indent=1, sort_keys=True) + "\n")
+
+
+def read_manifest(path):
+    """(paths read, paths written) from a manifest ``scripts/outputs.py`` wrote."""
+    reads, writes = [], []
+    try:
+        lines = Path(path).read_text().splitlines()
+    except OSError:
+        return reads, writes
+    for line in lines:
+        kind, _, name = line.partition(" ")
+        (reads if kind == "read" else writes).append(name)
+    return reads, writes

@@ -1,0 +1,64 @@
+"""make reproduce reruns only what changed (scripts/freshness.py): a record
+of each notebook's inputs and outputs by content, so that a changed source,
+package file or data file read makes it stale, and so does a changed or
+missing output; file times play no part."""
+
+import os
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "scripts"))
+import freshness  # noqa: E402
+
+
+def _repository(tmp_path):
+    (tmp_path / "src" / "pkg").mkdir(parents=True)
+    (tmp_path / "src" / "pkg" / "a.py").write_text("x = 1\n")
+    (tmp_path / "data").mkdir()
+    (tmp_path / "data" / "in.csv").write_text("a\n1\n")
+    (tmp_path / "data" / "out.csv").write_text("b\n2\n")
+    (tmp_path / "nb.py").write_text("# notebook\n")
+    state = freshness.State(tmp_path / "build" / "state.json", tmp_path)
+    state.record("nb", [tmp_path / "nb.py"], reads=[tmp_path / "data" / "in.csv"],
+                 outputs=["data/out.csv"])
+    return state
+
+
+def test_a_notebook_is_up_to_date_until_an_input_or_output_changes(tmp_path):
+    state = _repository(tmp_path)
+    sources = [tmp_path / "nb.py"]
+    assert state.why_stale("nb", sources) is None
+    # The record is read back by a new State (another make reproduce).
+    again = freshness.State(tmp_path / "build" / "state.json", tmp_path)
+    assert again.why_stale("nb", sources) is None
+    assert again.why_stale("other", sources) == "never run here"
+    # Times alone change nothing.
+    os.utime(tmp_path / "nb.py", (0, 0))
+    assert again.why_stale("nb", sources) is None
+    for path, text, why in [("src/pkg/a.py", "x = 2\n", "its inputs changed"),
+                            ("data/in.csv", "a\n3\n", "its inputs changed"),
+                            ("nb.py", "# edited\n", "its inputs changed"),
+                            ("data/out.csv", "b\n5\n", "data/out.csv changed")]:
+        old = (tmp_path / path).read_text()
+        (tmp_path / path).write_text(text)
+        assert again.why_stale("nb", sources) == why, path
+        (tmp_path / path).write_text(old)
+        assert again.why_stale("nb", sources) is None
+    (tmp_path / "data" / "out.csv").unlink()
+    assert again.why_stale("nb", sources) == "data/out.csv is missing"
+
+
+def test_a_forgotten_notebook_runs_again(tmp_path):
+    state = _repository(tmp_path)
+    state.forget("nb")
+    again = freshness.State(tmp_path / "build" / "state.json", tmp_path)
+    assert again.why_stale("nb", [tmp_path / "nb.py"]) == "never run here"
+
+
+def test_the_manifest_of_a_run(tmp_path):
+    manifest = tmp_path / "m.txt"
+    manifest.write_text("read /r/data/a.csv\nwrote /r/figures/b.png\nwrote /r/data/c.csv\n")
+    assert freshness.read_manifest(manifest) == (
+        ["/r/data/a.csv"], ["/r/figures/b.png", "/r/data/c.csv"])
+    assert freshness.read_manifest(tmp_path / "none.txt") == ([], [])

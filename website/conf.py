@@ -1,0 +1,55 @@
+"""Sphinx configuration of the website: the README as its landing page, the
+notebooks with the outputs stored in their .ipynb (nothing is executed) and
+the paper's PDF, readable with no network (MathJax from the environment).
+
+Built by ``scripts/build_site.py`` (``make reproduce`` or ``make site``) into
+``build/site``; the source folder is the repository root, of which only the
+files in ``include_patterns`` are read.
+"""
+
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+import notebook_reader  # noqa: E402  (the source folder is the repository root)
+
+project = "splinestep"
+author = "the splinestep authors"
+copyright = "the splinestep authors"
+root_doc = "README"
+include_patterns = ["README.md", "notebooks/[0-9][0-9]_*.ipynb", "website/paper.md"]
+extensions = ["myst_nb"]
+myst_enable_extensions = ["dollarmath", "amsmath"]
+myst_heading_anchors = 3
+# MathJax 2 typesets the page (its tex2jax reads the \\( \\) that myst writes);
+# myst's own settings are for MathJax 3.
+myst_update_mathjax = False
+# The stored outputs are what the site shows: no notebook is run.
+nb_execution_mode = "off"
+# Each notebook is read with its long code cells collapsed (notebook_reader).
+nb_custom_formats = {".ipynb": ["notebook_reader.read", {}, False]}
+nb_merge_streams = True
+suppress_warnings = ["myst.header", "misc.highlighting_failure"]
+
+html_theme = "sphinx_book_theme"
+html_title = "splinestep"
+html_theme_options = {"show_toc_level": 2, "use_download_button": False,
+                      "use_fullscreen_button": False, "home_page_in_toc": True}
+html_show_sourcelink = False
+html_copy_source = False
+html_last_updated_fmt = None
+# MathJax 2 from the environment (jupyter-server-mathjax), copied into the
+# site's _static by notebook_reader.copy_mathjax (a relative path is read
+# below _static): no request leaves the site's folder.
+mathjax_path = "mathjax/MathJax.js?config=TeX-AMS-MML_HTMLorMML-full"
+# The package bundles the STIX-Web fonts only (as the classic notebook used them).
+mathjax2_config = {"tex2jax": {"processEscapes": True}, "messageStyle": "none",
+                   "HTML-CSS": {"availableFonts": [], "webFont": "STIX-Web",
+                                "imageFont": None, "preferredFont": None}}
+
+
+def setup(app):
+    app.connect("source-read", notebook_reader.site_contents)
+    app.connect("build-finished", notebook_reader.copy_mathjax)
+    app.connect("build-finished", notebook_reader.landing_redirect)

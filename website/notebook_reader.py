@@ -1,0 +1,110 @@
+"""How the website reads the notebooks and the paper's captions.
+
+:func:`read` is the reader ``conf.py`` gives myst-nb for ``.ipynb`` files:
+the stored notebook, with every code cell longer than :data:`SHOWN_LINES`
+lines collapsed behind a "show code" toggle (its outputs stay in view), and
+each figure a notebook writes given the paper's caption for it, as caption
+and as alt text.  Nothing is executed.
+"""
+
+import re
+import shutil
+from pathlib import Path
+
+import nbformat
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "paper" / "splinestep.typ"
+# Code cells of more lines than this are collapsed on the site.
+SHOWN_LINES = 12
+SAVED_FIGURE = re.compile(r"save_figure\(\s*\w+,\s*\"([^\"]+)\"")
+_GREEK = {"alpha": "α", "beta": "β", "gamma": "γ", "Delta": "Δ", "delta": "δ", "kappa": "κ",
+          "mu": "μ", "nu": "ν", "omega": "ω", "pi": "π", "rho": "ρ", "sigma": "σ", "theta": "θ",
+          "dots": "…", "in": "∈", "times": "×", "approx": "≈"}
+_SUPERSCRIPT = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
+
+
+def _bracketed(text, start):
+    """The text between the ``[`` at ``start`` and its matching ``]``."""
+    depth = 0
+    for index in range(start, len(text)):
+        depth += {"[": 1, "]": -1}.get(text[index], 0)
+        if depth == 0:
+            return text[start + 1:index]
+    raise ValueError(f"unbalanced [ at {start} of the paper")
+
+
+def _plain_math(math):
+    """Typst math as plain Unicode text: ``Delta t = 0.08 \\/ 2^k`` -> Δt = 0.08/2ᵏ."""
+    math = re.sub(r"\^\(([-+0-9]+)\)|\^([-+0-9]+)", lambda m: (m.group(1) or m.group(2))
+                  .translate(_SUPERSCRIPT), math)
+    math = re.sub(r"sqrt\((\w+)\)", r"√\1", math)
+    math = re.sub(r'"(\w+)"', r"\1", math)
+    math = re.sub(r"\b(" + "|".join(_GREEK) + r")\b", lambda m: _GREEK[m.group(1)], math)
+    return math.replace("\\/", "/").replace("Δ t", "Δt")
+
+
+def plain(markup):
+    """A caption in Typst markup as plain text (math in Unicode)."""
+    text = re.sub(r"\$([^$]*)\$", lambda m: _plain_math(m.group(1)), markup)
+    text = re.sub(r"`([^`]*)`", r"\1", text).replace("\\/", "/")
+    return re.sub(r"\s+", " ", text).strip()
+
+
+def captions(paper=PAPER):
+    """{figure name: its caption in the paper, as plain text}."""
+    text = Path(paper).read_text()
+    found = {}
+    for match in re.finditer(r'#fig\("([^"]+)",\s*\[', text):
+        found[match.group(1)] = plain(_bracketed(text, match.end() - 1))
+    return found
+
+
+def read(text, path=None):
+    """The notebook in ``text`` (ipynb JSON) as the site shows it."""
+    notebook = nbformat.reads(text, as_version=4)
+    known = captions()
+    for cell in notebook.cells:
+        if cell.cell_type != "code":
+            continue
+        tags = cell.metadata.setdefault("tags", [])
+        if len(cell.source.splitlines()) > SHOWN_LINES and "hide-input" not in tags:
+            tags.append("hide-input")
+        names = SAVED_FIGURE.findall(cell.source)
+        if len(names) == 1 and names[0] in known:
+            caption = known[names[0]]
+            cell.metadata["mystnb"] = {"image": {"alt": caption},
+                                       "figure": {"caption": caption, "name": names[0]}}
+    return notebook
+
+
+def copy_mathjax(app, exception):
+    """After a build: MathJax (from the jupyter-server-mathjax package) into
+    the site's ``_static/mathjax/`` folder, so that math is typeset offline."""
+    if exception is not None or app.builder.format != "html":
+        return
+    import jupyter_server_mathjax
+    source = Path(jupyter_server_mathjax.__file__).parent / "static"
+    shutil.copytree(source, Path(app.outdir) / "_static" / "mathjax", dirs_exist_ok=True)
+
+
+def site_contents(app, docname, source):
+    """Sphinx's source-read: the README (the landing page) ends with the
+    site's table of contents, the notebooks in reading order and the paper
+    (hidden: the sidebar shows it; the README lists them in its own words)."""
+    if docname != "README":
+        return
+    pages = sorted(p.stem for p in (ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+    lines = ["", "```{toctree}", ":hidden:", ":caption: Notebooks", ""]
+    lines += [f"notebooks/{page}" for page in pages]
+    lines += ["```", "", "```{toctree}", ":hidden:", ":caption: Paper", "", "website/paper", "```"]
+    source[0] += "\n".join(lines) + "\n"
+
+
+def landing_redirect(app, exception):
+    """After a build: ``index.html`` leading to the landing page (the README)."""
+    if exception is None and app.builder.format == "html":
+        (Path(app.outdir) / "index.html").write_text(
+            '<!DOCTYPE html><meta charset="utf-8"><title>splinestep</title>'
+            '<meta http-equiv="refresh" content="0; url=README.html">'
+            '<a href="README.html">splinestep</a>\n')
