@@ -51,14 +51,20 @@ def evaluations(method, target):
     return f"more than {int(row.most_tested)} (its most tested give {sci(row.error_at_most)})"
 
 
-def show_table(frame):
+def table_html(frame, raw=()):
     """A table as JupyterLab shows it: left-aligned text that wraps at word breaks
-    (inline styles: JupyterLab drops the style sheets of untrusted outputs)."""
+    (inline styles: JupyterLab drops the style sheets of untrusted outputs), its
+    notation readable (outputs.readable); the columns in ``raw`` are HTML already."""
     style = 'style="text-align: left; vertical-align: top"'
     head = "".join(f"<th {style}>{escape(c)}</th>" for c in frame.columns)
-    rows = "".join("<tr>" + "".join(f"<td {style}>{escape(str(v))}</td>" for v in row) + "</tr>"
-                   for row in frame.itertuples(index=False))
-    display(HTML(f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>"))
+    cell = lambda c, v: str(v) if c in raw else escape(outputs.readable(str(v)))
+    rows = "".join("<tr>" + "".join(f"<td {style}>{cell(c, v)}</td>" for c, v in zip(frame.columns, row))
+                   + "</tr>" for row in frame.itertuples(index=False))
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>"
+
+
+def show_table(frame, raw=()):
+    display(HTML(table_html(frame, raw)))
 
 
 claims = []
@@ -417,8 +423,57 @@ claim("(none)", "boundary value problems",
       "with a message, and so does a problem whose solution does not converge with the mesh "
       "(y'' = -y, y(0) = 0, y(pi) = 1, which has none)")
 claims = pd.DataFrame(claims)
+
+# %% [markdown]
+# ## The verdicts at a glance
+#
+# One line per claim: where the report makes it, what it says, the verdict and
+# the notebook section that measures it.  *Reproduced*, *partly* and *not
+# reproduced* judge what the report claims; *built* and *proved* answer what it
+# suggests (a method built and measured, a proof); *beyond the report* marks
+# findings it does not make.  What was measured, and each verdict in full, are
+# in the second table (click to open it) and in `data/claims.csv`.
+
+# %%
+# Each claim, by its first words: its kind of verdict and where it is measured.
+SEE = {
+    "mu = 0.4, 0.5": ("reproduced", "02_cannonball", "Figure 1a"),
+    "the spline method generates": ("reproduced", "02_cannonball", "Figure 1a"),
+    "the errors do not exceed 1e-3 (cannonball)": ("partly", "02_cannonball",
+                                                   "How large are the errors?"),
+    "the errors do not exceed 1e-3; rigid body": ("reproduced", "03_rigid_body",
+                                                  "Does the energy error stay bounded?"),
+    "the cannonball error follows": ("partly", "02_cannonball",
+                                     "Where along the orbit does the error change?"),
+    "second-order convergence": ("reproduced", "04_convergence", "Figure 3"),
+    "comparison with RK4": ("reproduced", "04_convergence", "Figure 3"),
+    "the method is stable": ("reproduced", "01_method", "Stability and period error"),
+    "reaches desired tolerance": ("reproduced", "04_convergence", "The same work elsewhere"),
+    "a formal proof": ("proved", "06_theory", "The convergence theorem"),
+    "higher-order polynomial splines": ("partly", "07_higher_degree", "Degree k"),
+    "the energy error stays bounded": ("beyond the report", "08_long_time",
+                                       "10,000 orbits of the ellipse"),
+    "the spline stepper against Stormer-Verlet": ("beyond the report", "08_long_time",
+                                                  "At equal work: the spline or Verlet?"),
+    "improved accuracy through adaptability": ("built", "09_adaptive_steps", "Adaptive knots"),
+    "higher order": ("built", "10_higher_order", "Order 4 and 6 by symmetric composition"),
+    "the coefficients at all points": ("built", "11_global_sweep_and_bvp",
+                                       "The single Newton-LU sweep"),
+    "boundary value problems": ("beyond the report", "11_global_sweep_and_bvp",
+                                "Boundary value problems"),
+}
+keys = [next(k for k in SEE if text.startswith(k)) for text in claims.claim]
+assert len(set(keys)) == len(SEE) == len(claims), "one SEE entry per claim"
+for index, column in enumerate(["kind", "notebook", "section"]):
+    claims.insert(2 + index, column, [SEE[k][index] for k in keys])
 outputs.save_data(claims, "claims")
-show_table(claims)
+link = [f'<a href="{n}.ipynb">{n[:2]}: {escape(s)}</a>' for n, s in zip(claims.notebook, claims.section)]
+show_table(claims[["where", "claim", "kind"]].rename(columns={"kind": "verdict"})
+           .assign(**{"measured in": link}), raw=("measured in",))
+
+# %%
+display(HTML("<details><summary><b>What was measured, and the verdicts in full</b></summary>"
+             + table_html(claims[["where", "claim", "measured", "verdict"]]) + "</details>"))
 
 # %% [markdown]
 # The few numbers the paper (`paper/splinestep.typ`) states in its prose, each

@@ -180,6 +180,27 @@ def plain(value, digits=2):
     return f"{match.group(1)} \u00d7 10{match.group(2).translate(_SUPERSCRIPTS)}"
 
 
+_GREEK = {"mu": "\u03bc", "omega": "\u03c9", "pi": "\u03c0", "lambda": "\u03bb",
+          "beta": "\u03b2", "rho": "\u03c1", "sigma": "\u03c3", "gamma": "\u03b3"}
+
+
+def readable(text):
+    """Plain text of the tables (``data/claims.csv``) as a reader reads it:
+    Greek names as letters, ``4.1e-03`` and ``1e-3`` as 4.1 \u00d7 10\u207b\u00b3 and
+    10\u207b\u00b3, powers ``h^2`` and ``(omega h)^2`` as superscripts, ``sqrt(12)`` as
+    \u221a12, ``<=`` as \u2264, ``dt`` (the step) as \u0394t; other text unchanged."""
+    def power(match):
+        mantissa, exponent = match.group(1), int(match.group(2))
+        ten = "10" + str(exponent).translate(_SUPERSCRIPTS)
+        return ten if mantissa in ("1", None) else f"{mantissa} \u00d7 {ten}"
+    text = re.sub(r"\b(\d+(?:\.\d+)?)e([-+]?\d+)\b", power, text)
+    text = re.sub(r"\b(" + "|".join(_GREEK) + r")\b", lambda m: _GREEK[m.group(1)], text)
+    text = re.sub(r"\^\(?(-?\d+)\)?", lambda m: m.group(1).translate(_SUPERSCRIPTS), text)
+    text = re.sub(r"sqrt\((\w+)\)", "\u221a\\1", text)
+    text = re.sub(r"(^|[^/\w])dt\b", "\\1\u0394t", text)
+    return text.replace("<=", "\u2264").replace(">=", "\u2265").replace(" -> ", " \u2192 ")
+
+
 def round_sig(value, digits=2):
     """``value`` rounded to ``digits`` significant digits."""
     return float(f"{value:.{digits - 1}e}")

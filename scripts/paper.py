@@ -44,11 +44,16 @@ def machine_description():
 
 def figure_sources(root=ROOT):
     """Which notebook writes which figure: the ``save_figure(fig, "NAME")``
-    calls of each notebook, as CSV text (figure,notebook), in notebook order."""
-    lines = ["figure,notebook"]
+    calls of each notebook, as CSV text (figure,notebook), in the order the
+    paper shows the figures (that of its ``#fig("NAME", ...)`` calls, which
+    Typst numbers in order); a figure the paper does not show comes last."""
+    paper = (Path(root) / SOURCE.relative_to(ROOT)).read_text()
+    rows = []
     for script in sorted((Path(root) / "notebooks").glob("[0-9][0-9]_*.py")):
         for name in SAVED_FIGURE.findall(script.read_text()):
-            lines.append(f"{name},notebooks/{script.stem}.ipynb")
+            place = paper.find(f'#fig("{name}"')
+            rows.append((place if place >= 0 else len(paper), name, script.stem))
+    lines = ["figure,notebook"] + [f"{name},notebooks/{stem}.ipynb" for _, name, stem in sorted(rows)]
     return "\n".join(lines) + "\n"
 
 

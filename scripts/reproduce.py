@@ -46,6 +46,20 @@ README = ROOT / "README.md"
 README_TABLES = {"claims": "claims", "errata": "errata"}
 
 
+def readme_frame(name, frame):
+    """The columns of data/NAME.csv the README shows, in readable notation:
+    the claims one line each (where, claim, verdict, a link to the notebook
+    section that measures it; the measurements stay in the CSV), the errata
+    whole."""
+    import outputs
+    if name == "claims":
+        links = [f"[{n[:2]}: {s}](notebooks/{n}.ipynb)"
+                 for n, s in zip(frame.notebook, frame.section)]
+        frame = frame[["where", "claim", "kind"]].rename(columns={"kind": "verdict"})
+        frame = frame.assign(**{"measured in": links})
+    return frame.map(lambda v: outputs.readable(str(v)))
+
+
 def markdown_table(frame):
     """A pandas DataFrame as a GitHub Markdown table (| in cells escaped)."""
     cells = [[str(v).replace("|", "\\|") for v in row] for row in frame.itertuples(index=False)]
@@ -61,7 +75,7 @@ def readme_with_tables(text, data_dir):
         begin, end = f"<!-- begin {marker} -->", f"<!-- end {marker} -->"
         head, rest = text.split(begin)
         _, tail = rest.split(end)
-        table = markdown_table(pd.read_csv(data_dir / f"{name}.csv"))
+        table = markdown_table(readme_frame(name, pd.read_csv(data_dir / f"{name}.csv")))
         text = f"{head}{begin}\n{table}\n{end}{tail}"
     return text
 
@@ -272,7 +286,7 @@ def main(names=()):
     print()
     if claims.exists():
         import pandas as pd
-        print(claims_summary(pd.read_csv(claims).verdict))
+        print(claims_summary(pd.read_csv(claims).kind))
     print("data: data/*.csv; figures: figures/*.png and .pdf; notebooks with outputs: "
           "notebooks/*.ipynb; the claims table: README.md and data/claims.csv; the paper: "
           "paper/splinestep.pdf; the website: build/site/index.html "
@@ -280,17 +294,14 @@ def main(names=()):
     return 0
 
 
-# The kinds of verdict, by how a verdict of data/claims.csv begins.
-VERDICTS = {"reproduced": "reproduced", "partly": "partly", "not reproduced": "not reproduced",
-            "built": "built", "proved": "proved", "a finding beyond": "beyond the report"}
+# The kinds of verdict of data/claims.csv, in the order they are counted.
+VERDICTS = ("reproduced", "partly", "not reproduced", "built", "proved", "beyond the report")
 
 
-def claims_summary(verdicts):
-    """One line: how many of the report's claims each kind of verdict has
-    (by the verdict's first words; anything else counted as "other")."""
-    kinds = [next((name for start, name in VERDICTS.items() if v.startswith(start)), "other")
-             for v in verdicts]
-    counts = ", ".join(f"{kinds.count(k)} {k}" for k in (*VERDICTS.values(), "other")
+def claims_summary(kinds):
+    """One line: how many of the report's claims each kind of verdict has."""
+    kinds = list(kinds)
+    counts = ", ".join(f"{kinds.count(k)} {k}" for k in (*VERDICTS, *sorted(set(kinds) - set(VERDICTS)))
                        if kinds.count(k))
     return f"{len(kinds)} claims of the report: {counts}"
 

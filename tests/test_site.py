@@ -1,7 +1,8 @@
 """The website (`make reproduce`, `scripts/build_site.py`): built from the committed
 notebooks and paper, every page opened in headless Chromium with no network.
 
-Every page loads; every image loads and has alt text; every formula is
+Every page loads; every image loads and has alt text; every link within
+the site leads to a file of it; every formula is
 typeset by MathJax, with no MathJax error and no raw TeX left in the text;
 no request leaves the site's folder; each notebook page shows each figure
 its notebook writes, with the paper's caption.
@@ -15,6 +16,7 @@ import re
 import shutil
 import sys
 from pathlib import Path
+from urllib.parse import unquote, urlparse
 
 import pytest
 
@@ -51,6 +53,8 @@ MATH_STATE = """() => {
 }"""
 MATH_DONE = """() => !(window.MathJax && MathJax.Hub) ||
   (MathJax.isReady && MathJax.Hub.queue.pending == 0 && MathJax.Hub.queue.running == 0)"""
+LINKS = """() => [...document.querySelectorAll('a[href]')].map(a => a.href)
+  .filter(h => h.startsWith('file:')).map(h => h.split('#')[0])"""
 IMAGES = """() => [...document.images].map(i => ({src: i.getAttribute('src'),
   loaded: i.complete && i.naturalWidth > 0, alt: i.getAttribute('alt') || ''}))"""
 
@@ -133,6 +137,9 @@ def test_every_page_in_a_browser(site):
             for image in page.evaluate(IMAGES):
                 if not image["loaded"] or not image["alt"].strip():
                     problems.append(f"{name}: image {image}")
+            for target in page.evaluate(LINKS):
+                if not Path(unquote(urlparse(target).path)).exists():
+                    problems.append(f"{name}: broken link {target}")
             if path.parent.name == "notebooks" and math["formulas"] == 0:
                 problems.append(f"{name}: no formula")
         browser.close()

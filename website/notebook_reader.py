@@ -1,7 +1,8 @@
 """How the website reads the notebooks and the paper's captions.
 
 :func:`read` is the reader ``conf.py`` gives myst-nb for ``.ipynb`` files:
-the stored notebook, with every code cell longer than :data:`SHOWN_LINES`
+the stored notebook, its HTML outputs' links to other notebooks leading to
+their pages, with every code cell longer than :data:`SHOWN_LINES`
 lines collapsed behind a "show code" toggle (its outputs stay in view), and
 each figure a notebook writes given the paper's caption for it, as caption
 and as alt text.  Nothing is executed.
@@ -67,6 +68,11 @@ def read(text, path=None):
     for cell in notebook.cells:
         if cell.cell_type != "code":
             continue
+        for output in cell.get("outputs", []):
+            html = output.get("data", {}).get("text/html")
+            if html:  # links between notebooks lead to their pages
+                text = "".join(html) if isinstance(html, list) else html
+                output["data"]["text/html"] = re.sub(r'href="(\d\d_\w+)\.ipynb"', r'href="\1.html"', text)
         tags = cell.metadata.setdefault("tags", [])
         if len(cell.source.splitlines()) > SHOWN_LINES and "hide-input" not in tags:
             tags.append("hide-input")
