@@ -449,7 +449,7 @@ print(f"at the same step: spline error / Verlet error {step_ratio.min():.2f} to 
 # the $x^4$ terms have the same sign), but on this orbit the spline's phase
 # drifts 1.68 times as fast as Verlet's (measured above over 200 orbits), which
 # accounts for much, not all, of the factor over $t \in [0, 50]$.  This is
-# one orbit, $\mu = 0.6$; other orbits give other factors.  At equal
+# one orbit, $\mu = 0.6$; the other orbits were not measured.  At equal
 # evaluations Verlet wins here: the converged spline's error is 7.4 to
 # 19.4 times Verlet's.  With one sweep per step the spline evaluates $F$
 # once per step, as Verlet does (and 15 times more per run for its

@@ -217,15 +217,16 @@ def to_run(state, names=()):
     if names:
         return [(s, "asked for") for s in NOTEBOOKS if s.name.startswith(tuple(names))]
     chosen = []
-    for script in NOTEBOOKS:
+    # Those in LAST are judged after the others, whatever their file names.
+    for script in sorted(NOTEBOOKS, key=lambda s: s.stem in LAST):
         why = state.why_stale(script.stem, [script])
-        if why is None and script.stem in LAST and any(s.stem not in LAST for s, _ in chosen):
+        if why is None and script.stem in LAST and chosen:
             why = "the others' data may have changed"
         if why is None:
             print(f"{script.relative_to(ROOT)}: up to date", flush=True)
         else:
             chosen.append((script, why))
-    return chosen
+    return sorted(chosen, key=lambda pair: NOTEBOOKS.index(pair[0]))
 
 
 def _paper_sources():

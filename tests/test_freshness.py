@@ -62,3 +62,22 @@ def test_the_manifest_of_a_run(tmp_path):
     assert freshness.read_manifest(manifest) == (
         ["/r/data/a.csv"], ["/r/figures/b.png", "/r/data/c.csv"])
     assert freshness.read_manifest(tmp_path / "none.txt") == ([], [])
+
+
+def test_the_claims_notebook_runs_whenever_another_does(tmp_path, monkeypatch):
+    """reproduce.to_run: a stale notebook numbered after the claims
+    notebook (08 > 05) still makes the claims notebook run."""
+    import reproduce
+    notebooks = [tmp_path / f"{name}.py" for name in ("01_a", "05_claims_and_errata", "08_b")]
+    for path in notebooks:
+        path.write_text(f"# {path.stem}\n")
+    monkeypatch.setattr(reproduce, "NOTEBOOKS", notebooks)
+    monkeypatch.setattr(reproduce, "ROOT", tmp_path)
+    state = freshness.State(tmp_path / "state.json", tmp_path)
+    for path in notebooks:
+        state.record(path.stem, [path])
+    assert reproduce.to_run(state) == []
+    notebooks[2].write_text("# 08_b, edited\n")
+    assert [(s.stem, why) for s, why in reproduce.to_run(state)] == [
+        ("05_claims_and_errata", "the others' data may have changed"),
+        ("08_b", "its inputs changed")]
