@@ -181,7 +181,8 @@ def plain(value, digits=2):
 
 
 _GREEK = {"mu": "\u03bc", "omega": "\u03c9", "pi": "\u03c0", "lambda": "\u03bb",
-          "beta": "\u03b2", "rho": "\u03c1", "sigma": "\u03c3", "gamma": "\u03b3"}
+          "beta": "\u03b2", "rho": "\u03c1", "sigma": "\u03c3", "gamma": "\u03b3",
+          "zeta": "\u03b6"}
 
 
 def readable(text):
@@ -195,7 +196,8 @@ def readable(text):
         return ten if mantissa in ("1", None) else f"{mantissa} \u00d7 {ten}"
     text = re.sub(r"\b(\d+(?:\.\d+)?)e([-+]?\d+)\b", power, text)
     text = re.sub(r"\b(" + "|".join(_GREEK) + r")\b", lambda m: _GREEK[m.group(1)], text)
-    text = re.sub(r"\^\(?(-?\d+)\)?", lambda m: m.group(1).translate(_SUPERSCRIPTS), text)
+    text = re.sub(r"\^(?:\((-?\d+)\)|(-?\d+))",
+                  lambda m: (m.group(1) or m.group(2)).translate(_SUPERSCRIPTS), text)
     text = re.sub(r"sqrt\((\w+)\)", "\u221a\\1", text)
     text = re.sub(r"(^|[^/\w])dt\b", "\\1\u0394t", text)
     return text.replace("<=", "\u2264").replace(">=", "\u2265").replace(" -> ", " \u2192 ")
