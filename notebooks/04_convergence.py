@@ -157,11 +157,12 @@ work = pd.DataFrame(work)
 outputs.save_data(work, "work-precision")
 
 fig, ax = plt.subplots(figsize=(outputs.WIDTH, 5.0))
-markers = {"spline (converged)": "o-", "spline (1 sweep)": "o--", "Verlet": "D-", "RK4": "s-",
-           "scipy RK45": "^-", "scipy DOP853": "v-"}
-for method, style in markers.items():
+METHODS = ("spline (converged)", "spline (1 sweep)", "Verlet", "RK4", "scipy RK45", "scipy DOP853")
+for method in METHODS:
     sel = work[work.method == method]
-    ax.loglog(sel.nfev, sel.max_error, style, markersize=5, label=method)
+    color, marker = outputs.style_of(method)
+    ax.loglog(sel.nfev, sel.max_error, color=color, marker=marker, markersize=5, label=method,
+              linestyle="--" if "1 sweep" in method else "-")
 ax.axhline(1e-3, color="k", linewidth=1, linestyle="-.", label="report's bound $10^{-3}$")
 ax.set_xlabel("right-hand-side evaluations over $t \\in [0, 50]$")
 ax.set_ylabel("largest position error $|x_i(t_k) - x_i^{\\rm exact}(t_k)|$\n"
@@ -173,7 +174,7 @@ outputs.save_figure(fig, "work-precision")
 # %%
 curves = {m: (g.nfev.to_numpy(), g.max_error.to_numpy()) for m, g in work.groupby("method")}
 reach = []
-for method in markers:
+for method in METHODS:
     nfev, error = curves[method]
     for target in (1e-3, 1e-6):
         needed = diagnostics.work_to_reach(nfev, error, target)

@@ -208,10 +208,8 @@ print(f"spline, modified energy H~: largest error {spline_windows.modified_energ
 
 # %%
 fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0), sharex=True)
-styles = {"spline": ("C0", "o"), "spline, 1 sweep": ("C1", "s"), "Verlet": ("C2", "^"),
-          "RK4, same work": ("C3", "D")}
 for method, group in long_time.groupby("method", sort=False):
-    color, marker = styles.get(method, ("C5", "v"))
+    color, marker = outputs.style_of(method)
     name = method.replace("spline", outputs.METHOD_STYLE["spline"]["label"])
     label = f"{name} ({outputs.round_sig(evaluations_per_orbit[method], 2):,.0f} F / orbit)"
     ax.loglog(group.orbit, group.energy_error, color=color, marker=marker, markersize=4,

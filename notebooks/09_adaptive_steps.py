@@ -246,7 +246,7 @@ ax.legend(handles=handles, loc="upper left", fontsize=outputs.MIN_FONT, handlele
 styles = {"uniform, 1 sweep": "s--", "uniform, iterated": "s-", "adaptive, 1 sweep": "o--",
           "adaptive, iterated": "o-"}
 for method, (nfev, error) in curves.items():
-    bx.loglog(nfev, error, styles[method], color="C3" if "uniform" in method else "C0",
+    bx.loglog(nfev, error, styles[method], color="0.45" if "uniform" in method else "C0",
               markersize=5, label=method)
 bx.set_xlabel("right-hand-side evaluations over one period")
 bx.set_ylabel("position error after one period")

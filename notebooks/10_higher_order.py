@@ -228,7 +228,7 @@ outputs.save_data(comparison, "composition-ratios")
 # %%
 fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0))
 for method, g in growth.items():
-    color = {"spline, order 2": "C0", "spline, order 4": "C2", "RK4, same work": "C3"}[method]
+    color = outputs.style_of(method)[0]
     ax.loglog(g.index, g.energy_error, "o-", color=color, markersize=4, label=method)
     ax.loglog(g.index, g.position_error, "x:", color=color, markersize=4)
 ax.set_xlabel(f"orbit number (ellipse $\\mu = 0.6$; spline $h = {LONG_STEP:g}$)")
@@ -236,13 +236,11 @@ ax.set_ylabel("largest error in the orbit")
 ax.set_title("10,000 orbits: $|H - H_0|$ (o, solid), position error (x, dotted)", loc="left")
 ax.set_ylim(1e-10, 1e4)
 ax.legend(loc="upper center", fontsize=outputs.MIN_FONT, ncol=3)
-markers = {"spline, order 2": ("C0", "o-"), "spline, order 4": ("C2", "o-"),
-           "spline, order 6": ("C4", "o-"), "Richardson (order 2 at h, h/2)": ("C1", "D--"),
-           "RK4": ("C3", "s--"), "scipy DOP853": ("C5", "v--")}
 short = {"Richardson (order 2 at h, h/2)": "Richardson (2 at h, h/2)", "scipy DOP853": "DOP853"}
 for method, (nfev, error) in work_curves.items():
-    color, style = markers[method]
-    bx.loglog(nfev, error, style, color=color, markersize=4, label=short.get(method, method))
+    color, marker = outputs.style_of(method)
+    bx.loglog(nfev, error, color=color, marker=marker, markersize=4, label=short.get(method, method),
+              linestyle="-" if method.startswith("spline") else "--")
 bx.set_xlabel("right-hand-side evaluations over $t \\in [0, 50]$")
 bx.set_ylabel("max position error")
 bx.set_title("Work against precision, ellipse $\\mu = 0.6$", loc="left")

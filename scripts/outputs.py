@@ -36,7 +36,27 @@ METHOD_STYLE = {
     "rk4": dict(color="C3", linestyle="--", label="RK4"),
     "reference": dict(color="k", linestyle=":", label="exact"),
 }
-MU_COLORS = {0.4: "C0", 0.5: "C1", 0.6: "C2", 1.0: "C4"}
+# The cannonball's orbits, from viridis (a parameter, not a method: no
+# colour of METHODS).
+MU_COLORS = {0.4: "#440154", 0.5: "#355f8d", 0.6: "#1e9c89", 1.0: "#7ad151"}
+# One colour and one marker per method, in every figure (style_of).
+METHODS = {
+    "spline": ("C0", "o"), "spline, 1 sweep": ("C1", "o"), "Verlet": ("C2", "D"),
+    "RK4": ("C3", "s"), "RK45": ("C4", "^"), "DOP853": ("C5", "v"),
+    "spline, order 4": ("C6", "p"), "spline, order 6": ("C8", "h"), "Richardson": ("C9", "X"),
+}
+
+
+def style_of(method):
+    """(colour, marker) of ``method`` from :data:`METHODS`, under the names the
+    notebooks give it ("scipy DOP853", "RK4, same work", "spline (converged)",
+    "spline (1 sweep)", "spline, order 2", "Richardson (order 2 at h, h/2)",
+    "DOP853, rtol 1e-04")."""
+    key = (method.split(", rtol")[0].replace("scipy ", "").replace(", same work", "").replace(" (converged)", "")
+           .replace(", order 2", "").replace(" (1 sweep)", ", 1 sweep"))
+    if key.startswith("Richardson"):
+        key = "Richardson"
+    return METHODS[key]
 
 # With SPLINESTEP_MANIFEST set (by `make reproduce`), every file read or
 # written here is noted in that file, for scripts/freshness.py.
