@@ -21,7 +21,13 @@ from splinestep import problems
 from splinestep.analysis import diagnostics, tolerance
 from splinestep.problems import kepler
 
-# %%
+# %% [markdown]
+# The next cell builds the table, one `claim(where, what the report says,
+# what was measured, verdict)` per claim, each measurement read from `data/`
+# or computed here.  It is long and folded; open it to read how a verdict is
+# reached.
+
+# %% jupyter={"source_hidden": true}
 cannon = outputs.read_data("cannonball-max-errors")
 histories = outputs.read_data("cannonball-error-histories")
 location = outputs.read_data("cannonball-error-location").set_index("quantity").value
