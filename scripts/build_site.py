@@ -1,4 +1,4 @@
-"""Build the website: the README as landing page, the eleven notebooks with
+"""Build the website: the README as landing page, the notebooks with
 their stored outputs (nothing is executed), and the paper's PDF, into
 ``build/site`` (not committed), readable offline: open
 ``build/site/index.html`` in a browser.  The configuration is in
