@@ -47,6 +47,14 @@ def digest(paths, root=ROOT, extra=""):
     return total.hexdigest()
 
 
+def output_hash(path):
+    """The hash of a file, or of a folder's files (names and contents)."""
+    path = Path(path)
+    if path.is_dir():
+        return digest([p for p in path.rglob("*") if p.is_file()], path)
+    return file_hash(path)
+
+
 def environment():
     return f"Python {sys.version}"
 
@@ -62,10 +70,17 @@ class State:
         except (OSError, ValueError):
             self.records = {}
 
-    def _inputs(self, sources, reads, common=True):
+    def before(self, sources, common=True):
+        """The hash of what a run takes besides the files it reads: its
+        ``sources``, with ``common`` the files of :data:`COMMON` and the
+        environment.  Taken before the run, so that a file edited while
+        it runs leaves it stale."""
         paths = (files(COMMON, self.root) if common else []) + [Path(s) for s in sources]
-        paths += [self.root / r for r in reads]
         return digest(paths, self.root, environment())
+
+    def _inputs(self, sources, reads, common=True, before=None):
+        own = self.before(sources, common) if before is None else before
+        return digest([self.root / r for r in reads], self.root, own)
 
     def why_stale(self, name, sources, common=True):
         """None if ``name`` is up to date, else why not (a short phrase).
@@ -80,21 +95,24 @@ class State:
             target = self.root / path
             if not target.exists():
                 return f"{path} is missing"
-            if file_hash(target) != expected:
+            if output_hash(target) != expected:
                 return f"{path} changed"
         return None
 
-    def record(self, name, sources, reads=(), outputs=(), common=True):
-        """Note that ``name`` ran now, with these inputs and outputs (paths
-        relative to the root or absolute below it), and save the record."""
+    def record(self, name, sources, reads=(), outputs=(), common=True, before=None):
+        """Note that ``name`` ran, with these inputs and outputs (files or
+        folders; paths relative to the root or absolute below it), and save
+        the record.  ``before`` is :meth:`before` as taken when the run
+        started (taken now if None)."""
         relative = [str(Path(p).resolve().relative_to(self.root)) if Path(p).is_absolute()
                     else str(p) for p in reads]
         relative = sorted(set(relative))
         written = {}
         for path in outputs:
             path = Path(path) if Path(path).is_absolute() else self.root / path
-            written[str(path.relative_to(self.root))] = file_hash(path)
-        self.records[name] = {"inputs": self._inputs(sources, relative, common), "reads": relative,
+            written[str(path.relative_to(self.root))] = output_hash(path)
+        self.records[name] = {"inputs": self._inputs(sources, relative, common, before),
+                              "reads": relative,
                               "outputs": written}
         self.save()
 

@@ -35,7 +35,7 @@ NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.py"))
 LAST = ("05_claims_and_errata",)
 # Notebooks start longest first (times from `make bench`), so that the short
 # ones fill the gaps at the end; any other notebook starts after these.
-ORDER = ("08_long_time", "09_adaptive_steps", "06_theory", "10_higher_order",
+ORDER = ("08_long_time", "09_adaptive_steps", "06_theory", "10_higher_order", "12_hard_step_equations",
          "11_global_sweep_and_bvp", "07_higher_degree", "02_cannonball", "04_convergence",
          "03_rigid_body", "01_method")
 # Notebooks run at the same time (each kernel is one process).
@@ -114,7 +114,8 @@ def execute(script, output_root=None, ready=None, abandon=None):
     env = dict(os.environ, MPLBACKEND="Agg")
     if output_root is not None:
         env["SPLINESTEP_OUTPUT"] = str(output_root)
-    else:  # what it reads and writes, noted for freshness.State
+    else:  # outputs into this repository; what it reads and writes noted
+        env.pop("SPLINESTEP_OUTPUT", None)
         manifest = manifest_path(script)
         manifest.parent.mkdir(parents=True, exist_ok=True)
         manifest.unlink(missing_ok=True)
@@ -212,11 +213,15 @@ def execute_all(scripts, output_root=None, jobs=JOBS):
 
 def to_run(state, names=()):
     """The notebooks to run, each with why: those named (by file-name
-    prefix), or else those not up to date, and those in ``LAST`` whenever
+    prefix), or else those not up to date; and those in ``LAST`` whenever
     another runs.  Prints a line for each notebook left as it is."""
-    if names:
-        return [(s, "asked for") for s in NOTEBOOKS if s.name.startswith(tuple(names))]
     chosen = []
+    if names:
+        chosen = [(s, "asked for") for s in NOTEBOOKS
+                  if s.name.startswith(tuple(names)) and s.stem not in LAST]
+        return chosen + [(s, "asked for" if s.name.startswith(tuple(names))
+                          else "the others' data may have changed")
+                         for s in NOTEBOOKS if s.stem in LAST and (chosen or s.name.startswith(tuple(names)))]
     # Those in LAST are judged after the others, whatever their file names.
     for script in sorted(NOTEBOOKS, key=lambda s: s.stem in LAST):
         why = state.why_stale(script.stem, [script])
@@ -230,14 +235,15 @@ def to_run(state, names=()):
 
 
 def _paper_sources():
-    return freshness.files(("paper/*.typ", "paper/*.bib", "paper/figure-sources.csv",
+    """What the paper reads (its csv(), read(), yaml() and image() calls) and how it is built."""
+    return freshness.files(("paper/*.typ", "paper/*.bib", "paper/*.csv", "CITATION.cff",
                             "data/*.csv", "data/machine.txt", "figures/*.pdf",
                             "scripts/paper.py", "environment.txt"))
 
 
 def _site_sources():
     return freshness.files(("README.md", "notebooks/*.ipynb", "paper/splinestep.pdf",
-                            "paper/splinestep.typ", "figures/*.png", "website/*",
+                            "paper/splinestep.typ", "figures/*.png", "data/*.csv", "website/*",
                             "scripts/build_site.py", "environment.txt"))
 
 
@@ -248,8 +254,9 @@ def build_if_stale(state, name, sources, build, output):
     if why is None:
         print(f"{output.relative_to(ROOT)}: up to date", flush=True)
         return
+    before = state.before(sources, common=False)
     print(build(), f"({why})", flush=True)
-    state.record(name, sources, outputs=[output], common=False)
+    state.record(name, sources, outputs=[output], common=False, before=before)
 
 
 def main(names=()):
@@ -260,8 +267,10 @@ def main(names=()):
     total = time.perf_counter()
     state = freshness.State()
     chosen = to_run(state, names)
+    before = {}
     for script, why in chosen:
         print(f"{script.relative_to(ROOT)}: runs ({why})", flush=True)
+        before[script] = state.before([script])
     for script, notebook, error, seconds in execute_all([s for s, _ in chosen]):
         if error is not None:
             state.forget(script.stem)
@@ -270,19 +279,20 @@ def main(names=()):
         target = script.with_suffix(".ipynb")
         jupytext.write(notebook, target)
         reads, writes = freshness.read_manifest(manifest_path(script))
-        state.record(script.stem, [script], reads, [*writes, target])
+        state.record(script.stem, [script], reads, [*writes, target], before=before[script])
         print(f"{script.relative_to(ROOT)}: {seconds:5.1f} s", flush=True)
     if chosen:
         print(f"{len(chosen)} notebooks run: {time.perf_counter() - total:5.1f} s "
               f"({JOBS} at a time)")
-        README.write_text(readme_with_tables(README.read_text(), ROOT / "data"))
         paper.MACHINE.write_text(paper.machine_description())
+    # The README's tables are data/'s, whatever edited them.
+    README.write_text(readme_with_tables(README.read_text(), ROOT / "data"))
     paper.FIGURE_SOURCES.write_text(paper.figure_sources())
     build_if_stale(state, "paper", _paper_sources(),
                    lambda: f"paper/splinestep.pdf: built in {paper.build():.1f} s", paper.PDF)
     build_if_stale(state, "site", _site_sources(), lambda: "build/site/index.html: "
                    "{1} pages built in {0:.1f} s".format(*build_site.build()),
-                   build_site.SITE / "index.html")
+                   build_site.SITE)
     claims = ROOT / "data" / "claims.csv"
     print()
     if claims.exists():

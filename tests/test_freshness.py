@@ -81,3 +81,68 @@ def test_the_claims_notebook_runs_whenever_another_does(tmp_path, monkeypatch):
     assert [(s.stem, why) for s, why in reproduce.to_run(state)] == [
         ("05_claims_and_errata", "the others' data may have changed"),
         ("08_b", "its inputs changed")]
+
+
+def test_a_folder_output_is_stale_when_any_file_in_it_changes(tmp_path):
+    """The site is recorded as its whole folder: a deleted page makes it stale."""
+    (tmp_path / "site" / "a").mkdir(parents=True)
+    (tmp_path / "site" / "index.html").write_text("x")
+    (tmp_path / "site" / "a" / "page.html").write_text("y")
+    (tmp_path / "in.txt").write_text("z")
+    state = freshness.State(tmp_path / "state.json", tmp_path)
+    state.record("site", [tmp_path / "in.txt"], outputs=["site"], common=False)
+    assert state.why_stale("site", [tmp_path / "in.txt"], common=False) is None
+    (tmp_path / "site" / "a" / "page.html").unlink()
+    assert state.why_stale("site", [tmp_path / "in.txt"], common=False) == "site changed"
+
+
+def test_inputs_are_taken_before_the_run(tmp_path):
+    """A source edited while its notebook runs leaves the notebook stale."""
+    source = tmp_path / "nb.py"
+    source.write_text("# first\n")
+    state = freshness.State(tmp_path / "state.json", tmp_path)
+    before = state.before([source])
+    source.write_text("# edited during the run\n")
+    state.record("nb", [source], before=before)
+    assert state.why_stale("nb", [source]) == "its inputs changed"
+
+
+def test_naming_a_notebook_runs_the_claims_notebook_too(monkeypatch, tmp_path):
+    import reproduce
+    notebooks = [tmp_path / f"{name}.py" for name in ("01_a", "05_claims_and_errata", "08_b")]
+    monkeypatch.setattr(reproduce, "NOTEBOOKS", notebooks)
+    state = freshness.State(tmp_path / "state.json", tmp_path)
+    assert [(s.stem, why) for s, why in reproduce.to_run(state, ["08"])] == [
+        ("08_b", "asked for"), ("05_claims_and_errata", "the others' data may have changed")]
+    assert [s.stem for s, _ in reproduce.to_run(state, ["05"])] == ["05_claims_and_errata"]
+
+
+def test_the_paper_is_rebuilt_from_every_file_it_reads():
+    """Every file paper/splinestep.typ reads (csv(), read(), yaml(), image())
+    is among the paper's hashed sources."""
+    import re
+    import reproduce
+    text = (ROOT / "paper" / "splinestep.typ").read_text()
+    read = set(re.findall(r'(?:csv|read|yaml|json)\("/([^"]+)"', text))
+    sources = {str(p.relative_to(ROOT)) for p in reproduce._paper_sources()}
+    assert read and read <= sources, read - sources
+    figures = {f"figures/{p.name}" for p in (ROOT / "figures").glob("*.pdf")}
+    assert figures <= sources
+
+
+def test_outputs_notes_what_a_notebook_reads_and_writes(tmp_path):
+    """scripts/outputs.py, with SPLINESTEP_MANIFEST set, notes each data file
+    read and each data file and figure written."""
+    import subprocess
+    manifest = tmp_path / "manifest.txt"
+    code = ("import sys; sys.path.insert(0, %r); import outputs, pandas as pd; "
+            "plt = outputs.setup(); outputs.save_data(pd.DataFrame({'a': [1]}), 'x'); "
+            "outputs.read_data('x'); fig = plt.figure(figsize=(outputs.WIDTH, 2)); "
+            "outputs.save_figure(fig, 'f')") % str(ROOT / "scripts")
+    env = dict(os.environ, SPLINESTEP_MANIFEST=str(manifest), SPLINESTEP_OUTPUT=str(tmp_path),
+               MPLBACKEND="Agg")
+    subprocess.run([sys.executable, "-c", code], check=True, env=env)
+    reads, writes = freshness.read_manifest(manifest)
+    assert reads == [str(tmp_path / "data" / "x.csv")]
+    assert writes == [str(tmp_path / "data" / "x.csv"), str(tmp_path / "figures" / "f.pdf"),
+                      str(tmp_path / "figures" / "f.png")]

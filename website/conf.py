@@ -44,7 +44,9 @@ html_last_updated_fmt = None
 # below _static): no request leaves the site's folder.
 mathjax_path = "mathjax/MathJax.js?config=TeX-AMS-MML_HTMLorMML-full"
 # The package bundles the STIX-Web fonts only (as the classic notebook used them).
+# An undefined macro is an error (tests/test_site.py finds those), not red text.
 mathjax2_config = {"tex2jax": {"processEscapes": True}, "messageStyle": "none",
+                   "TeX": {"noUndefined": {"disabled": True}},
                    "HTML-CSS": {"availableFonts": [], "webFont": "STIX-Web",
                                 "imageFont": None, "preferredFont": None}}
 

@@ -22,7 +22,8 @@ SAVED_FIGURE = re.compile(r"save_figure\(\s*\w+,\s*\"([^\"]+)\"")
 _GREEK = {"alpha": "α", "beta": "β", "gamma": "γ", "Delta": "Δ", "delta": "δ", "kappa": "κ",
           "mu": "μ", "nu": "ν", "omega": "ω", "pi": "π", "rho": "ρ", "sigma": "σ", "theta": "θ",
           "dots": "…", "in": "∈", "times": "×", "approx": "≈"}
-_SUPERSCRIPT = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
+_SUPERSCRIPT = str.maketrans("0123456789-+kyn", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺ᵏʸⁿ")
+_SUBSCRIPT = str.maketrans("0123456789hiknt", "₀₁₂₃₄₅₆₇₈₉ₕᵢₖₙₜ")
 
 
 def _bracketed(text, start):
@@ -37,11 +38,14 @@ def _bracketed(text, start):
 
 def _plain_math(math):
     """Typst math as plain Unicode text: ``Delta t = 0.08 \\/ 2^k`` -> Δt = 0.08/2ᵏ."""
-    math = re.sub(r"\^\(([-+0-9]+)\)|\^([-+0-9]+)", lambda m: (m.group(1) or m.group(2))
+    math = re.sub(r"\^\(([-+0-9]+)\)|\^([-+0-9]+|[kyn]\b)", lambda m: (m.group(1) or m.group(2))
                   .translate(_SUPERSCRIPT), math)
+    math = re.sub(r"_([0-9hiknt])\b", lambda m: m.group(1).translate(_SUBSCRIPT), math)
+    math = re.sub(r"tilde\((\w)\)", "\\1\u0303", math)
     math = re.sub(r"sqrt\((\w+)\)", r"√\1", math)
     math = re.sub(r'"(\w+)"', r"\1", math)
-    math = re.sub(r"\b(" + "|".join(_GREEK) + r")\b", lambda m: _GREEK[m.group(1)], math)
+    math = re.sub(r"(?<![A-Za-z])(" + "|".join(_GREEK) + r")(?![A-Za-z])",
+                  lambda m: _GREEK[m.group(1)], math)
     return math.replace("\\/", "/").replace("Δ t", "Δt")
 
 
@@ -80,7 +84,7 @@ def read(text, path=None):
         if len(names) == 1 and names[0] in known:
             caption = known[names[0]]
             cell.metadata["mystnb"] = {"image": {"alt": caption},
-                                       "figure": {"caption": caption, "name": names[0]}}
+                                       "figure": {"caption": caption, "name": f"fig-{names[0]}"}}
     return notebook
 
 
