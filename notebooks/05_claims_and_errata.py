@@ -135,11 +135,12 @@ claim("Sec. 5", "the cannonball error follows the orbit; the spline has more dif
       f"{sci(location['energy_error_next_periapsis'])} at the next periapsis; the position "
       f"error peaks at {sci(location['max_position_error'])} at t = "
       f"{location['t_max_position_error']:.2f} (r = {location['r_max_position_error']:.2f})",
-      "partly reproduced: the error follows the orbit; if curvature means the path's, no (it is "
-      "as curved at apoapsis, where the error does not change); if it means the solution's, the "
-      "acceleration, yes (the error changes where it is largest, near periapsis, though far "
-      "faster than it grows, as |x''''| does, which sets the local error); the energy error "
-      "stays bounded (a modified energy is conserved)")
+      "reproduced, with curvature read as the solution's, as the report's next paragraph has "
+      "it ('difficult curvatures in the function'): the error changes where the acceleration "
+      "is largest, near periapsis, though far faster than it grows, as |x''''| does, which "
+      "sets the local error; the path's curvature does not explain it (the path is as curved "
+      "at apoapsis, where the error does not change); the energy error stays bounded (a "
+      "modified energy is conserved)")
 spline_slopes = slopes[slopes.method == "spline"].slope
 rk4_slopes = slopes[slopes.method == "rk4"].slope
 claim("Sec. 4, Fig. 3", "second-order convergence (cannonball)",
@@ -215,7 +216,8 @@ claim("Sec. 5", "higher-order polynomial splines with more continuity may do bet
       f"{degrees.loc[6, 'largest_spurious_root']:.3f} (errors grow by "
       f"{degrees.loc[5, 'measured_growth_per_step']:.3f} and "
       f"{degrees.loc[6, 'measured_growth_per_step']:.3f} per step)",
-      "built: degree 4 raises the order (to 4 on the ellipse) but is only weakly stable (a "
+      "built: degree 4 raises the order (to 4 on the ellipse, when started with the exact "
+      "y'''(0); from y'''(0) = 0 its error is about the cubic's) but is only weakly stable (a "
       "parasitic mode that damping makes grow); degrees 5 and 6 diverge for every h (as "
       "Loscalzo and Talbot 1967 found for y' = f)")
 phase_drift = outputs.read_data("phase-drift").set_index("method")
@@ -339,8 +341,9 @@ claim("Sec. 5", "improved accuracy through adaptability",
       f"h = 1e-4 reaches t = 3 with error {sci(uniform_fine.error.min())}, unflagged, at "
       f"{uniform_fine.nfev.min() / adaptive_coarse.nfev.min():.1f} times the evaluations of "
       f"adaptive rtol 1e-4 (error {sci(adaptive_coarse.error.min())}); where the solution's "
-      f"scale hardly varies (oscillator, Duffing, pendulum, rational problem) uniform steps "
-      f"cost as much or less (notebook 09); on the Kepler "
+      f"scale varies less the gain is small or negative (notebook 09: about even on the "
+      f"oscillator and the forced Duffing oscillator, uniform steps cheaper on the pendulum "
+      f"and the rational problem); on the Kepler "
       f"orbit e = 0.9 over 300 orbits reversible steps keep the energy error bounded where "
       f"error-controlled knots do not; keeping "
       f"Newton's matrix saves only against full Newton, not against the sweep")
@@ -381,6 +384,8 @@ claim("Sec. 5", "higher order",
       f"Richardson extrapolation needs {outputs.span(rich)} times the evaluations of order 4, "
       f"RK4 {outputs.span(rk4_4)} times those of order 4 and {outputs.span(rk4_6)} times those "
       f"of order 6, DOP853 {outputs.span(dop_6)} times those of order 6",
+      "a finding beyond the report (what it suggests for higher order is higher-degree "
+      "splines), "
       "built: order 4 and 6; order 4 keeps a bounded energy error over 10,000 orbits (order 6 "
       "was not run that long); over t in [0, 50] order 4 costs more "
       "than RK4, order 6 as much at low accuracy and less at high (ellipse), and DOP853 is "
@@ -453,7 +458,7 @@ SEE = {
     "the errors do not exceed 1e-3 (cannonball)": ("partly", "02_cannonball",
                                                    "How large are the errors?"),
     "the errors do not exceed 1e-3; rigid body": ("reproduced", "03_rigid_body", "Figure 2b"),
-    "the cannonball error follows": ("partly", "02_cannonball",
+    "the cannonball error follows": ("reproduced", "02_cannonball",
                                      "Where along the orbit does the error change?"),
     "second-order convergence": ("reproduced", "04_convergence", "Figure 3"),
     "comparison with RK4": ("beyond the report", "02_cannonball", "How large are the errors?"),
@@ -467,7 +472,8 @@ SEE = {
                                                   "At equal work: the spline or Verlet?"),
     "improved accuracy through adaptability": ("built", "09_adaptive_steps",
                                                "Adaptive knots (the Pleiades: notebook 12)"),
-    "higher order": ("built", "10_higher_order", "Order 4 and 6 by symmetric composition"),
+    "higher order": ("beyond the report", "10_higher_order",
+                     "Order 4 and 6 by symmetric composition"),
     "the coefficients at all points": ("built", "11_global_sweep_and_bvp",
                                        "The single Newton-LU sweep"),
     "boundary value problems": ("beyond the report", "11_global_sweep_and_bvp",

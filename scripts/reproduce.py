@@ -161,7 +161,8 @@ def _timed(script, output_root, ready=None, abandon=None):
     ``ready``, when it could first read the others' data."""
     start = time.perf_counter()
     if output_root is None:
-        print(f"{script.relative_to(ROOT)}: started", flush=True)
+        sys.stdout.write(f"{script.relative_to(ROOT)}: started\n")  # one write: two threads
+        sys.stdout.flush()
     try:
         notebook = execute(script, output_root, ready, abandon)
     except CellExecutionError as error:
@@ -266,7 +267,13 @@ def main(names=()):
     import build_site
     total = time.perf_counter()
     state = freshness.State()
+    if names and not any(s.name.startswith(tuple(names)) for s in NOTEBOOKS):
+        print(f"no notebook's file name starts with {' or '.join(names)}; the notebooks: "
+              f"{', '.join(s.stem for s in NOTEBOOKS)}", file=sys.stderr)
+        return 2
     chosen = to_run(state, names)
+    if chosen:  # the machine the data are made on: an output of every run below
+        paper.MACHINE.write_text(paper.machine_description())
     before = {}
     for script, why in chosen:
         print(f"{script.relative_to(ROOT)}: runs ({why})", flush=True)
@@ -279,12 +286,12 @@ def main(names=()):
         target = script.with_suffix(".ipynb")
         jupytext.write(notebook, target)
         reads, writes = freshness.read_manifest(manifest_path(script))
-        state.record(script.stem, [script], reads, [*writes, target], before=before[script])
+        state.record(script.stem, [script], reads, [*writes, target, paper.MACHINE],
+                     before=before[script])
         print(f"{script.relative_to(ROOT)}: {seconds:5.1f} s", flush=True)
     if chosen:
         print(f"{len(chosen)} notebooks run: {time.perf_counter() - total:5.1f} s "
               f"({JOBS} at a time)")
-        paper.MACHINE.write_text(paper.machine_description())
     # The README's tables are data/'s, whatever edited them.
     README.write_text(readme_with_tables(README.read_text(), ROOT / "data"))
     paper.FIGURE_SOURCES.write_text(paper.figure_sources())
@@ -314,7 +321,7 @@ def claims_summary(kinds):
     kinds = list(kinds)
     counts = ", ".join(f"{kinds.count(k)} {k}" for k in (*VERDICTS, *sorted(set(kinds) - set(VERDICTS)))
                        if kinds.count(k))
-    return f"{len(kinds)} claims of the report: {counts}"
+    return f"{len(kinds)} claims of the report and findings beyond it: {counts}"
 
 
 if __name__ == "__main__":

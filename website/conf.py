@@ -30,6 +30,8 @@ nb_execution_mode = "off"
 # Each notebook is read with its long code cells collapsed (notebook_reader).
 nb_custom_formats = {".ipynb": ["notebook_reader.read", {}, False]}
 nb_merge_streams = True
+# y'' stays two primes (smart quotes would make it a closing quote).
+smartquotes = False
 suppress_warnings = ["myst.header", "misc.highlighting_failure"]
 
 html_theme = "sphinx_book_theme"

@@ -104,7 +104,10 @@ def site_contents(app, docname, source):
     (hidden: the sidebar shows it; the README lists them in its own words)."""
     if docname != "README":
         return
-    pages = sorted(p.stem for p in (ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+    # The README's reading order: by number, the claims notebook (which
+    # collects the others' verdicts) last.
+    pages = sorted((p.stem for p in (ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb")),
+                   key=lambda stem: (stem.startswith("05_claims"), stem))
     lines = ["", "```{toctree}", ":hidden:", ":caption: Notebooks", ""]
     lines += [f"notebooks/{page}" for page in pages]
     lines += ["```", "", "```{toctree}", ":hidden:", ":caption: Paper", "", "website/paper", "```"]
