@@ -132,6 +132,7 @@ for mu in MUS:
             "position_error": np.hypot(*(res.y - exact))}))
 errors = pd.concat(errors, ignore_index=True)
 
+# %%
 fig, axes = plt.subplots(3, 2, figsize=(outputs.WIDTH, 5.0), sharex=True, sharey="row")
 columns = {"energy_error": "energy\n$|H(t) - H(0)|$",
            "momentum_error": "ang. momentum\n$|M(t) - M(0)|$",

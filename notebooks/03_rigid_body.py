@@ -60,6 +60,7 @@ def extrema(values):
     return np.flatnonzero(slope[1:] * slope[:-1] < 0) + 1
 
 
+# %%
 fig, axes = plt.subplots(2, 2, figsize=(outputs.WIDTH, 5.0), sharex="col")
 rows = []
 coincide = {}

@@ -225,6 +225,7 @@ print(f"direct pairs: uniform error / adaptive error "
       f"largest difference from the interpolated ratio "
       f"{np.max(np.abs(matched.direct / matched.interpolated - 1)):.0%}")
 
+# %%
 fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0))
 # Only the steps whose true local error is above the rounding of the
 # measurement (below it the dots are rounding noise, different on every CPU).

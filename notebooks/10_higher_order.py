@@ -148,6 +148,8 @@ rk4_step = 4 * LONG_STEP / per_step_4
 long_runs["RK4, same work"] = splinestep.rk4(
     ellipse.fun, (0.0, t_long), ellipse.y0, ellipse.yp0, rk4_step, args=ellipse.args,
     t_eval=at_steps(rk4_step))
+
+# %%
 long_energy = []
 for method, res in long_runs.items():
     windowed = {
@@ -168,6 +170,8 @@ for method, g in growth.items():
           f"{exponent:+.2f}); position error {outputs.plain(g.position_error.iloc[0])}, "
           f"{outputs.plain(g.position_error.loc[100])} in orbit 100, "
           f"{outputs.plain(g.position_error.iloc[-1])} in orbit {LONG_ORBITS}")
+
+# %%
 # The orbit from which RK4's energy error exceeds the composition's largest,
 # two ways: on the sampled curve (log-log), and from the line a + c (k - 1)
 # fitted to RK4's error in orbit k (it drifts linearly from the first orbit).

@@ -123,6 +123,8 @@ for branch, amplitude in (("lower", 0.1), ("upper", 4.0)):
                                                        - exact(x_check)[0]))))
 bvp_table = pd.DataFrame(bvp_rows)
 outputs.save_data(bvp_table, "bvp-bratu")
+
+# %%
 bvp_orders = {b: np.polyfit(np.log(g.h), np.log(g.error), 1)[0]
               for b, g in bvp_table.groupby("branch")}
 # Second way: the order from the ratio of successive errors (the step halves).
@@ -140,6 +142,8 @@ for b, g in bvp_table.groupby("branch"):
           f"{', '.join(str(v) for v in sorted(set(g.scipy_status)))}, {g.scipy_points.min()} to "
           f"{g.scipy_points.max()} nodes, errors {outputs.plain(g.scipy_error.min(), 1)} to "
           f"{outputs.plain(g.scipy_error.max(), 1)}")
+
+# %%
 default_limit = [scipy_solve_bvp(lambda s, u: np.vstack([u[1], -np.exp(u[0])]),
                                  lambda a, b: np.array([a[0], b[0]]), x,
                                  np.vstack([4.0 * np.sin(np.pi * x), 4.0 * np.pi * np.cos(np.pi * x)]),
@@ -150,6 +154,8 @@ print(f"scipy with its default max_nodes = 1000, upper branch from 11 to 321 poi
 per_node_range = [float(f"{v:.0e}") for v in (np.nanmin(per_node), np.nanmax(per_node))]
 print(f"at the nodes scipy used, our error is {outputs.plain(per_node_range[0], 1)} to "
       f"{outputs.plain(per_node_range[1], 1)} times scipy's")
+
+# %%
 linear = splinestep.solve_bvp(lambda t, y, yp: y, np.linspace(0.0, 1.0, 101), 0.0, 1.0,
                               tol=np.inf)
 linear_error = np.max(np.abs(linear.y[0] - np.sinh(linear.t) / np.sinh(1.0)))
