@@ -35,7 +35,8 @@ NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.py"))
 LAST = ("05_claims_and_errata",)
 # Notebooks start longest first (times from `make bench`), so that the short
 # ones fill the gaps at the end; any other notebook starts after these.
-ORDER = ("08_long_time", "09_adaptive_steps", "06_theory", "10_higher_order", "12_hard_step_equations",
+ORDER = ("08_long_time", "09_adaptive_steps", "06_theory", "10_higher_order",
+         "12_hard_step_equations",
          "11_global_sweep_and_bvp", "07_higher_degree", "02_cannonball", "04_convergence",
          "03_rigid_body", "01_method")
 # Notebooks run at the same time (each kernel is one process).
@@ -218,11 +219,11 @@ def to_run(state, names=()):
     another runs.  Prints a line for each notebook left as it is."""
     chosen = []
     if names:
-        chosen = [(s, "asked for") for s in NOTEBOOKS
-                  if s.name.startswith(tuple(names)) and s.stem not in LAST]
-        return chosen + [(s, "asked for" if s.name.startswith(tuple(names))
-                          else "the others' data may have changed")
-                         for s in NOTEBOOKS if s.stem in LAST and (chosen or s.name.startswith(tuple(names)))]
+        named = [s for s in NOTEBOOKS if s.name.startswith(tuple(names))]
+        chosen = [(s, "asked for") for s in named if s.stem not in LAST]
+        last = [s for s in NOTEBOOKS if s.stem in LAST and (chosen or s in named)]
+        return chosen + [(s, "asked for" if s in named else "the others' data may have changed")
+                         for s in last]
     # Those in LAST are judged after the others, whatever their file names.
     for script in sorted(NOTEBOOKS, key=lambda s: s.stem in LAST):
         why = state.why_stale(script.stem, [script])
