@@ -73,7 +73,9 @@ _PDF_METADATA = {"Creator": None, "Producer": None, "CreationDate": None}
 _PNG_METADATA = {"Software": None}
 
 
-_SUPERSCRIPTS = str.maketrans("0123456789-\u2212", "\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079\u207b\u207b")
+_SUPERSCRIPTS = str.maketrans("0123456789-\u2212+kny", "\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079\u207b\u207b\u207a\u1d4f\u207f\u02b8")
+SUBSCRIPTS = str.maketrans("0123456789hiknt", "\u2080\u2081\u2082\u2083\u2084\u2085\u2086\u2087\u2088\u2089\u2095\u1d62\u2096\u2099\u209c")
+SUPERSCRIPTS = _SUPERSCRIPTS
 
 
 def plain_power_label(label):
@@ -200,9 +202,11 @@ def plain(value, digits=2):
     return f"{match.group(1)} \u00d7 10{match.group(2).translate(_SUPERSCRIPTS)}"
 
 
-_GREEK = {"mu": "\u03bc", "omega": "\u03c9", "pi": "\u03c0", "lambda": "\u03bb",
-          "beta": "\u03b2", "rho": "\u03c1", "sigma": "\u03c3", "gamma": "\u03b3",
-          "zeta": "\u03b6"}
+# Greek letters by name, for the tables (readable) and the site's captions.
+GREEK = {"alpha": "\u03b1", "beta": "\u03b2", "gamma": "\u03b3", "Delta": "\u0394",
+         "delta": "\u03b4", "zeta": "\u03b6", "theta": "\u03b8", "kappa": "\u03ba",
+         "lambda": "\u03bb", "mu": "\u03bc", "nu": "\u03bd", "pi": "\u03c0", "rho": "\u03c1",
+         "sigma": "\u03c3", "omega": "\u03c9"}
 
 
 def readable(text):
@@ -215,7 +219,7 @@ def readable(text):
         ten = "10" + str(exponent).translate(_SUPERSCRIPTS)
         return ten if mantissa in ("1", None) else f"{mantissa} \u00d7 {ten}"
     text = re.sub(r"\b(\d+(?:\.\d+)?)e([-+]?\d+)\b", power, text)
-    text = re.sub(r"\b(" + "|".join(_GREEK) + r")\b", lambda m: _GREEK[m.group(1)], text)
+    text = re.sub(r"\b(" + "|".join(GREEK) + r")\b", lambda m: GREEK[m.group(1)], text)
     text = re.sub(r"\^(?:\((-?\d+)\)|(-?\d+))",
                   lambda m: (m.group(1) or m.group(2)).translate(_SUPERSCRIPTS), text)
     text = re.sub(r"sqrt\((\w+)\)", "\u221a\\1", text)

@@ -10,20 +10,21 @@ and as alt text.  Nothing is executed.
 
 import re
 import shutil
+import sys
 from pathlib import Path
 
 import nbformat
 
 ROOT = Path(__file__).resolve().parents[1]
-PAPER = ROOT / "paper" / "splinestep.typ"
+sys.path.insert(0, str(ROOT / "scripts"))
+import outputs  # noqa: E402  (the Unicode tables of the notebooks' tables)
+from paper import SAVED_FIGURE, SOURCE as PAPER  # noqa: E402,F401
+from reproduce import LAST  # noqa: E402  (the notebooks read last, and listed last)
+
 # Code cells of more lines than this are collapsed on the site.
 SHOWN_LINES = 12
-SAVED_FIGURE = re.compile(r"save_figure\(\s*\w+,\s*\"([^\"]+)\"")
-_GREEK = {"alpha": "α", "beta": "β", "gamma": "γ", "Delta": "Δ", "delta": "δ", "kappa": "κ",
-          "mu": "μ", "nu": "ν", "omega": "ω", "pi": "π", "rho": "ρ", "sigma": "σ", "theta": "θ",
-          "dots": "…", "in": "∈", "times": "×", "approx": "≈"}
-_SUPERSCRIPT = str.maketrans("0123456789-+kyn", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺ᵏʸⁿ")
-_SUBSCRIPT = str.maketrans("0123456789hiknt", "₀₁₂₃₄₅₆₇₈₉ₕᵢₖₙₜ")
+# Typst math names: the Greek letters and a few symbols.
+_SYMBOLS = {**outputs.GREEK, "dots": "…", "in": "∈", "times": "×", "approx": "≈"}
 
 
 def _bracketed(text, start):
@@ -39,13 +40,13 @@ def _bracketed(text, start):
 def _plain_math(math):
     """Typst math as plain Unicode text: ``Delta t = 0.08 \\/ 2^k`` -> Δt = 0.08/2ᵏ."""
     math = re.sub(r"\^\(([-+0-9]+)\)|\^([-+0-9]+|[kyn]\b)", lambda m: (m.group(1) or m.group(2))
-                  .translate(_SUPERSCRIPT), math)
-    math = re.sub(r"_([0-9hiknt])\b", lambda m: m.group(1).translate(_SUBSCRIPT), math)
+                  .translate(outputs.SUPERSCRIPTS), math)
+    math = re.sub(r"_([0-9hiknt])\b", lambda m: m.group(1).translate(outputs.SUBSCRIPTS), math)
     math = re.sub(r"tilde\((\w)\)", "\\1\u0303", math)
     math = re.sub(r"sqrt\((\w+)\)", r"√\1", math)
     math = re.sub(r'"(\w+)"', r"\1", math)
-    math = re.sub(r"(?<![A-Za-z])(" + "|".join(_GREEK) + r")(?![A-Za-z])",
-                  lambda m: _GREEK[m.group(1)], math)
+    math = re.sub(r"(?<![A-Za-z])(" + "|".join(_SYMBOLS) + r")(?![A-Za-z])",
+                  lambda m: _SYMBOLS[m.group(1)], math)
     return math.replace("\\/", "/").replace("Δ t", "Δt")
 
 
@@ -107,7 +108,7 @@ def site_contents(app, docname, source):
     # The README's reading order: by number, the claims notebook (which
     # collects the others' verdicts) last.
     pages = sorted((p.stem for p in (ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb")),
-                   key=lambda stem: (stem.startswith("05_claims"), stem))
+                   key=lambda stem: (stem in LAST, stem))
     lines = ["", "```{toctree}", ":hidden:", ":caption: Notebooks", ""]
     lines += [f"notebooks/{page}" for page in pages]
     lines += ["```", "", "```{toctree}", ":hidden:", ":caption: Paper", "", "website/paper", "```"]
