@@ -24,6 +24,7 @@ import pandas as pd
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
 from splinestep import problems
+from splinestep.analysis import error_location
 
 plt = outputs.setup()
 MUS = problems.CANNONBALL_MU
@@ -117,20 +118,7 @@ print(f"largest distance from the exact orbit: {separation[worst]:.2%} of the pa
 # orbit.  The downward spikes are zero crossings of a signed error.
 
 # %%
-errors = []
-for mu in MUS:
-    problem = problems.cannonball(mu)
-    for method, res in runs[mu].items():
-        exact, _ = problem.exact(res.t)
-        energy = problem.invariants["energy"](res.y, res.yp)
-        momentum = problem.invariants["angular momentum"](res.y, res.yp)
-        errors.append(pd.DataFrame({
-            "mu": mu, "method": method, "t": res.t,
-            "r": np.hypot(res.y[0], res.y[1]),
-            "energy_error": np.abs(energy - energy[0]),
-            "momentum_error": np.abs(momentum - momentum[0]),
-            "position_error": np.hypot(*(res.y - exact))}))
-errors = pd.concat(errors, ignore_index=True)
+errors = error_location.error_histories(runs)
 
 # %%
 fig, axes = plt.subplots(3, 2, figsize=(outputs.WIDTH, 5.0), sharex=True, sharey="row")
@@ -192,8 +180,10 @@ print(f"ellipse, spline: position error first above 1e-3 at t = {above.min():.2f
       + (f"last below it after that at t = {below_after.max():.2f}" if len(below_after)
          else f"above it from then to t = {ellipse.t.max():g}"))
 lo, hi = ratios.stack().idxmin(), ratios.stack().idxmax()
-print(f"RK4 more accurate by a factor from {ratios.min().min():.0f} (mu = {lo[0]:g}, {lo[1]}) "
-      f"to {ratios.max().max():.0e} (mu = {hi[0]:g}, {hi[1]})")
+name = {"energy_error": "energy", "momentum_error": "angular momentum",
+        "position_error": "position"}
+print(f"RK4 more accurate by a factor from {ratios.min().min():.0f} (mu = {lo[0]:g}, "
+      f"{name[lo[1]]}) to {outputs.plain(ratios.max().max(), 1)} (mu = {hi[0]:g}, {name[hi[1]]})")
 
 # %% [markdown]
 # The spline's energy and angular-momentum errors stay below $10^{-5}$ on
@@ -228,26 +218,28 @@ print(f"RK4 more accurate by a factor from {ratios.min().min():.0f} (mu = {lo[0]
 # divided by its value at apoapsis.
 
 # %%
-from splinestep.analysis import error_location  # noqa: E402
-
 location, c = error_location.along_the_orbit(runs[0.6]["spline"], 0.6)
 outputs.save_data(location, "cannonball-error-location")
 value = location.set_index("quantity").value
-# The acceleration mu / r^2 in closed form: (r_apo / r_peri)^2 = ((1 + e) / (1 - e))^2 between
-# the apsides; (4.5 / r_peri)^2 between the arcs' largest values (at r = 1 and r = 4.5).
-# Knots every 0.01 miss an apsis by at most |r''| 0.005^2 / 2 <= 5e-6 of r (|r''| <= 0.4), and
-# pass r = 4.5 by at most |r'| 0.01 < 1.4e-3 (|r'| = 0.13 there): the ratios within 1e-4, 1e-3.
+for name, (closed, tolerance) in error_location.closed_form_ratios(0.6).items():
+    print(f"{name}: sampled {value[name]:.3f}, closed form {closed:.3f}")
+    assert abs(value[name] / closed - 1) < tolerance, name
 elements = problems.orbit_elements(0.6)
-e, period = elements["eccentricity"], elements["period"]
+e = elements["eccentricity"]
 r_peri, r_apo = elements["a"] * (1 - e), elements["a"] * (1 + e)
-closed = {"acceleration_ratio_apsides": ((r_apo / r_peri) ** 2, 1e-4),
-          "acceleration_ratio_arcs": ((4.5 / r_peri) ** 2, 1e-3)}
-for name, (exact_ratio, tolerance) in closed.items():
-    print(f"{name}: sampled {value[name]:.3f}, closed form {exact_ratio:.3f}")
-    assert abs(value[name] / exact_ratio - 1) < tolerance, name
-print(f"period {period:.2f}, periapsis r = {r_peri:.0f}, apoapsis r = {r_apo:.0f}")
-pd.DataFrame({"on the ellipse, mu = 0.6": location.quantity.map(error_location.QUANTITIES),
-              "value": location.value.map(lambda v: f"{v:.4g}")})
+print(f"period {elements['period']:.2f}, periapsis r = {r_peri:.0f}, apoapsis r = {r_apo:.0f}")
+print(f"path curvature smallest, {value.min_curvature:.3g}, at r = {value.r_min_curvature:.2f}; "
+      f"energy error {outputs.plain(value.energy_error_apoapsis)} at apoapsis, "
+      f"{outputs.plain(value.energy_error_next_periapsis)} at the next periapsis")
+print(f"{value.energy_variation_share_r_lt_1_5:.0%} of the energy error's variation at r < 1.5, "
+      f"in {value.time_share_r_lt_1_5:.0%} of the time; largest position error "
+      f"{outputs.plain(value.max_position_error)} at t = {value.t_max_position_error:.2f} "
+      f"(r = {value.r_max_position_error:.2f})")
+error_location.candidates(location).agg({
+    "periapsis arc / apoapsis arc": lambda v: v.map(
+        lambda x: outputs.plain(x, 2) if x > 1000 else f"{x:.2f}"),
+    "log-correlation with the rate": lambda v: v.map(
+        lambda x: "" if np.isnan(x) else f"{x:+.2f}")})
 
 # %% [markdown]
 # The figure shows, over the first orbit, the distance $r$, the three

@@ -332,7 +332,7 @@ claim("Sec. 5", "improved accuracy through adaptability",
       f"evaluations per step, {kept_over_sweep.min():.2f} to {kept_over_sweep.max():.2f} times "
       f"the default fixed-point sweep's",
       f"built: rtol bounds the final error of y (below rtol times the solution's scale on "
-      f"{tolerance_spline.problem.nunique()} problems, the figure tolerance-proportionality; "
+      f"{tolerance_spline.problem.nunique()} problems, as measured in notebook 09; "
       f"not on Pleiades, whose close encounters amplify errors: "
       f"{outputs.span((pleiades_over_rtol.min(), pleiades_over_rtol.max()))} times rtol); "
       f"{outputs.span(gain_one)} times fewer evaluations on an "

@@ -20,7 +20,8 @@ import outputs
 import splinestep
 from splinestep import problems
 from splinestep.analysis import diagnostics
-from splinestep.problems import euler_top, kepler
+from splinestep.analysis import long_time as long_time_analysis
+from splinestep.problems import euler_top
 
 plt = outputs.setup()
 ellipse = problems.cannonball(0.6)   # the report's ellipse, at its step h = 0.01
@@ -48,50 +49,14 @@ ORBITS = 10_000
 DOP_ORBITS = 1_000
 SAMPLES = 64
 windows = np.unique(np.round(np.logspace(0, np.log10(ORBITS), 33)).astype(int)) - 1
-# Sample times half a sample away from the orbits' ends, each moved to the
-# nearest step of the method measured (at_steps): so every sample is one of
-# that method's own steps and stays inside its orbit.
-t_wanted = ((windows[:, None] + (np.arange(SAMPLES)[None, :] + 0.5) / SAMPLES)
-            * period_T).ravel()
+t_wanted = long_time_analysis.orbit_sample_times(windows, SAMPLES, period_T)
+t_samples = long_time_analysis.at_steps(t_wanted, h)
 
 
-def at_steps(step):
-    """The sample times moved to the nearest multiple of a method's step."""
-    return step * np.round(t_wanted / step)
-
-
-t_samples = at_steps(h)
-energy = kepler.energy(mu)
-H0 = energy(ellipse.y0[:, None], ellipse.yp0[:, None])[0]
-L0 = kepler.angular_momentum(ellipse.y0, ellipse.yp0)
-
-
-def modified_energy(y, yp):
-    """H~ of the spline stepper in its own variables (notebook 06, section 4), Kepler:
-    |grad V|^2 = mu^2 / r^4, V_qq(v, v) = mu (|v|^2 / r^3 - 3 (q.v)^2 / r^5)."""
-    r = np.hypot(*y)
-    vqq = mu * (np.sum(yp * yp, axis=0) / r ** 3 - 3 * np.sum(y * yp, axis=0) ** 2 / r ** 5)
-    return energy(y, yp) + h * h * (mu ** 2 / r ** 4 / 24 + vqq / 12)
-
-
-def per_window(method, t, y, yp):
-    """Largest invariant errors in each sampled orbit (orbit k: t in [(k-1)T, kT))."""
-    orbit = np.floor(t / period_T).astype(int)
-    keep = np.isin(orbit, windows)
-    t, y, yp, orbit = t[keep], y[:, keep], yp[:, keep], orbit[keep]
-    rows = dict(energy_error=np.abs(energy(y, yp) - H0),
-                momentum_error=np.abs(kepler.angular_momentum(y, yp) - L0))
-    if method == "spline":
-        r = np.hypot(*y)
-        rows["modified_energy_error"] = np.abs(modified_energy(y, yp)
-                                               - modified_energy(ellipse.y0[:, None],
-                                                                 ellipse.yp0[:, None])[0])
-        rows["modified_momentum_error"] = np.abs(
-            (1 + h * h * mu / (6 * r ** 3)) * kepler.angular_momentum(y, yp)
-            - (1 + h * h * mu / 6) * L0)
-    out = pd.DataFrame(rows).groupby(orbit + 1).max()
-    return out.rename_axis("orbit").reset_index().assign(method=method)[
-        ["method", "orbit", *rows]]
+def per_window(method, res_t, res_y, res_yp, step=None):
+    """Largest invariant errors in each sampled orbit (long_time.invariants_per_orbit)."""
+    return long_time_analysis.invariants_per_orbit(method, res_t, res_y, res_yp, ellipse.y0,
+                                                   ellipse.yp0, mu, period_T, windows, h=step)
 
 
 # %%
@@ -106,26 +71,15 @@ spline_job, verlet_job = (pool.submit(method, ellipse.fun, (0.0, t_end), ellipse
                           for method in (splinestep.solve, splinestep.verlet))
 one_sweep_job = pool.submit(splinestep.solve, ellipse.fun, (0.0, t_end), ellipse.y0,
                             ellipse.yp0, h, args=ellipse.args, t_eval=t_samples, iterations=1)
-
-
-def first_order(t, u):
-    return np.concatenate([u[2:], ellipse.fun(t, u[:2], u[2:], *ellipse.args)])
-
-
 first_orbit = np.linspace(0.0, period_T, 401)
 spline_first = np.max(np.abs(splinestep.solve(
     ellipse.fun, (0.0, period_T), ellipse.y0, ellipse.yp0, h, args=ellipse.args,
     t_eval=first_orbit).y - ellipse.reference(first_orbit)[0]))
-dop_choice = []
-for tol in (1e-4, 1e-5, 1e-6, 1e-7):
-    sol = solve_ivp(first_order, (0.0, period_T), np.r_[ellipse.y0, ellipse.yp0], method="DOP853",
-                    rtol=tol, atol=tol * 1e-2, t_eval=first_orbit)
-    dop_choice.append((abs(np.log(np.max(np.abs(sol.y[:2] - ellipse.reference(first_orbit)[0]))
-                                  / spline_first)), tol))
-dop_tol = min(dop_choice)[1]
+dop_tol, dop_ratio = long_time_analysis.matching_tolerance(ellipse, period_T, spline_first,
+                                                           (1e-4, 1e-5, 1e-6, 1e-7))
 # DOP853 at every step it accepts (its steps are few: about 12 per orbit).
-dop = solve_ivp(first_order, (0.0, DOP_ORBITS * period_T), np.r_[ellipse.y0, ellipse.yp0],
-                method="DOP853", rtol=dop_tol, atol=dop_tol * 1e-2)
+dop = solve_ivp(problems.first_order(ellipse.fun, ellipse.args, 2), (0.0, DOP_ORBITS * period_T),
+                np.r_[ellipse.y0, ellipse.yp0], method="DOP853", rtol=dop_tol, atol=dop_tol * 1e-2)
 dop_label = f"DOP853, rtol {dop_tol:.0e}"
 
 # %%
@@ -133,8 +87,9 @@ spline_long = spline_job.result()
 work["spline"] = spline_long.nfev / spline_long.nstep
 # RK4 with its step stretched so that it evaluates F as often as the spline.
 rk4_same_work_h = 4 * h / work["spline"]
-rk4_long = splinestep.rk4(ellipse.fun, (0.0, t_end), ellipse.y0, ellipse.yp0, rk4_same_work_h,
-                          args=ellipse.args, t_eval=at_steps(rk4_same_work_h))
+rk4_long = splinestep.rk4(
+    ellipse.fun, (0.0, t_end), ellipse.y0, ellipse.yp0, rk4_same_work_h, args=ellipse.args,
+    t_eval=long_time_analysis.at_steps(t_wanted, rk4_same_work_h))
 verlet_long = verlet_job.result()
 one_sweep_long = one_sweep_job.result()
 pool.shutdown()
@@ -143,7 +98,8 @@ long_runs = {"spline": spline_long, "spline, 1 sweep": one_sweep_long, "Verlet":
 for label, res in long_runs.items():
     evaluations_per_orbit[label] = res.nfev / ORBITS
 evaluations_per_orbit[dop_label] = dop.nfev / DOP_ORBITS
-runs = [per_window(label, res.t, res.y, res.yp) for label, res in long_runs.items()]
+runs = [per_window(label, res.t, res.y, res.yp, h if label == "spline" else None)
+        for label, res in long_runs.items()]
 runs.append(per_window(dop_label, dop.t, dop.y[:2], dop.y[2:]))
 long_time = pd.concat(runs, ignore_index=True)
 outputs.save_data(long_time, "long-time-invariants")
@@ -158,49 +114,23 @@ print("evaluations per orbit: " + ", ".join(
 
 
 # %%
-GROWTH_FROM = 100  # the power law is fitted from this orbit on
-
-
-def fitted_growth(group, column):
-    """Exponent b of error ~ orbits^b over orbits >= GROWTH_FROM (0: bounded, 1: linear
-    drift), and the line a + c (orbit - 1) fitted by least squares to all sampled orbits:
-    (b, c, a).  An error that starts at a and drifts by c per orbit has a local log-log
-    slope c k / (a + c k) below 1 until c k dominates a, hence the late start of the fit."""
-    tail = group[group.orbit >= GROWTH_FROM]
-    exponent = np.polyfit(np.log(tail.orbit), np.log(tail[column]), 1)[0]
-    drift, start = np.polyfit(group.orbit - 1, group[column], 1)
-    return exponent, drift, start
-
-
-drift_rows = []
-for method, group in long_time.groupby("method", sort=False):
-    e_exp, e_rate, e_start = fitted_growth(group, "energy_error")
-    m_exp, m_rate, _ = fitted_growth(group, "momentum_error")
-    if group.momentum_error.max() < 1e-9:  # conserved to rounding: no growth to fit
-        m_exp = m_rate = np.nan
-    adaptive = method.startswith("DOP853")
-    drift_rows.append(dict(method=method, orbits=int(group.orbit.max()),
-                           evaluations_per_orbit=evaluations_per_orbit[method],
-                           energy_exponent=e_exp, energy_drift_per_orbit=e_rate,
-                           energy_error_start=e_start,
-                           final_energy_error=group.energy_error.iloc[-1],
-                           momentum_exponent=m_exp, momentum_drift_per_orbit=m_rate,
-                           final_momentum_error=group.momentum_error.iloc[-1]))
-    if adaptive:
+GROWTH_FROM = 100  # the power law is fitted from this orbit on (long_time.fitted_growth)
+drift = long_time_analysis.drift_table(long_time, evaluations_per_orbit, GROWTH_FROM)
+for row in drift.itertuples():
+    if row.method.startswith("DOP853"):
         # Its step sequence, and with it the size of its errors, differs from one
         # CPU to another by up to a few tens of percent (tests/reproduction.py):
         # the exponents' first decimal and the errors' decade are what reproduce.
-        print(f"{method:<18} to orbit {group.orbit.max():>5}: energy error ~ orbits^{e_exp:+.1f} "
-              f"(final ~1e{np.log10(group.energy_error.iloc[-1]):.0f}), angular momentum "
-              f"~ orbits^{m_exp:+.1f} (final ~1e{np.log10(group.momentum_error.iloc[-1]):.0f})")
+        print(f"{row.method:<18} to orbit {row.orbits:>5}: energy error ~ orbits^"
+              f"{row.energy_exponent:+.1f} (final ~1e{np.log10(row.final_energy_error):.0f}), "
+              f"angular momentum ~ orbits^{row.momentum_exponent:+.1f} "
+              f"(final ~1e{np.log10(row.final_momentum_error):.0f})")
         continue
-    momentum = (f"~ orbits^{outputs.signed(m_exp)}" if np.isfinite(m_exp)
-                else "conserved to rounding")
-    print(f"{method:<18} to orbit {group.orbit.max():>5}: energy error ~ orbits^"
-          f"{outputs.signed(e_exp)} (final {group.energy_error.iloc[-1]:.1e}), angular momentum "
-          f"{momentum} (final {group.momentum_error.iloc[-1]:.0e})")
-
-drift = pd.DataFrame(drift_rows)
+    momentum = (f"~ orbits^{outputs.signed(row.momentum_exponent)}"
+                if np.isfinite(row.momentum_exponent) else "conserved to rounding")
+    print(f"{row.method:<18} to orbit {row.orbits:>5}: energy error ~ orbits^"
+          f"{outputs.signed(row.energy_exponent)} (final {row.final_energy_error:.1e}), "
+          f"angular momentum {momentum} (final {row.final_momentum_error:.0e})")
 outputs.save_data(drift, "long-time-drift")
 spline_windows = long_time[long_time.method == "spline"]
 print(f"spline, modified energy H~: largest error {spline_windows.modified_energy_error.max():.1e}; "
@@ -248,7 +178,7 @@ print(f"RK4, same work: fitted exponent {d.loc['RK4, same work', 'energy_exponen
 print(f"spline, 1 sweep: energy error {sweep_first:.1e} in the first orbit, "
       f"{sweep_row.final_energy_error:.1e} in the last (exponent {sweep_row.energy_exponent:.2f}, "
       f"{sweep_row.energy_drift_per_orbit:.1e} per orbit)")
-print(f"{dop_label}: first-orbit error {outputs.round_sig(np.exp(min(dop_choice)[0]), 2):.0f} "
+print(f"{dop_label}: first-orbit error {outputs.round_sig(1 / dop_ratio, 2):.0f} "
       f"times smaller than the spline's; energy-error exponent "
       f"{d.loc[dop_label, 'energy_exponent']:.1f} over its {DOP_ORBITS:,} orbits")
 
@@ -306,17 +236,14 @@ for method, solver, kwargs in (("spline", splinestep.solve, {}),
                                ("Verlet", splinestep.verlet, {})):
     res = solver(ellipse.fun, (0.0, t_phase[-1]), ellipse.y0, ellipse.yp0, h, args=ellipse.args,
                  t_eval=t_phase, **kwargs)
-    by_angle = diagnostics.phase_drift_from_angle(t_phase, res.y, exact_phase, period_T)
-    by_passages, period_error, precession = diagnostics.phase_drift_from_passages(
-        t_phase, res.y, period_T)
-    phase_rows.append(dict(method=method, drift_from_angle=by_angle,
-                           drift_from_passages=by_passages, period_error=period_error,
-                           precession_per_orbit=precession))
-    print(f"{method:<15} drift per orbit: (a) angle error {by_angle:+.3e} rad, (b) passages "
-          f"{by_passages:+.3e} rad; T_h/T - 1 = {period_error:+.2e}, periapsis turns "
-          f"{precession:+.2e} rad per orbit")
+    phase_rows.append(dict(method=method, **diagnostics.phase_drifts(t_phase, res.y,
+                                                                      exact_phase, period_T)))
 phase = pd.DataFrame(phase_rows).set_index("method")
 outputs.save_data(phase.reset_index(), "phase-drift")
+phase.rename(columns=lambda c: c.replace("_", " ") + (" (rad)" if "error" not in c else "")).map(
+    "{:+.2e}".format)
+
+# %%
 # Two independent measurements of one number for the two symmetric methods,
 # whose phase drifts at a constant rate: over 200 orbits the within-orbit
 # oscillation left in the orbit averages is well below 1 % of the drift.  (With

@@ -29,7 +29,7 @@ import outputs
 import splinestep
 from splinestep import controllers, problems
 from matplotlib.lines import Line2D
-from splinestep.analysis import diagnostics, tolerance
+from splinestep.analysis import adaptive, diagnostics, tolerance
 
 plt = outputs.setup()
 
@@ -57,15 +57,10 @@ period = orbit.t_span[1]
 run = orbit.solve(h="adaptive", rtol=1e-3, atol=1e-6)
 estimate, _ = controllers.jump_estimates(run.t, run.ypp)
 steps = np.arange(1, run.t.size - 1)   # every step but the first (the estimate needs the one before)
-true_error = []
-for i in steps:
-    start, start_yp = orbit.reference(run.t[i:i + 2])
-    one = splinestep.solve(orbit.fun, (run.t[i], run.t[i + 1]), start[:, 0], start_yp[:, 0],
-                           knots=run.t[i:i + 2], args=orbit.args, tol=1e-15)
-    true_error.append(np.max(np.abs(one.y[:, -1] - start[:, 1])))
+true_error = adaptive.true_local_errors(orbit, run.t[1:])
 estimates = pd.DataFrame(dict(t=run.t[steps], h=np.diff(run.t)[steps],
                               r=np.hypot(*run.y[:, steps]), estimated=estimate[steps - 1],
-                              true=np.array(true_error)))
+                              true=true_error))
 outputs.save_data(estimates, "adaptive-estimate")
 # Near periapsis the steps are so small that their local error is below the
 # rounding of one step (about 1e-16 here), and late in the period the
@@ -168,19 +163,7 @@ outputs.save_figure(fig, "tolerance-proportionality")
 # with one sweep per step and iterated.
 
 # %%
-exact_end, _ = orbit.reference(np.array([period]))
-adaptive_work = []
-for n in 8000 * 4 ** np.arange(5):
-    for label, kwargs in (("uniform, 1 sweep", dict(iterations=1)), ("uniform, iterated", {})):
-        res = orbit.solve(h=period / n, **kwargs)
-        adaptive_work.append(dict(method=label, setting=period / n, nfev=res.nfev,
-                                  final_error=np.max(np.abs(res.y[:, -1] - exact_end[:, 0]))))
-for rtol in RTOLS:
-    for label, kwargs in (("adaptive, 1 sweep", dict(iterations=1)), ("adaptive, iterated", {})):
-        res = orbit.solve(h="adaptive", rtol=rtol, atol=rtol * 1e-3, **kwargs)
-        adaptive_work.append(dict(method=label, setting=rtol, nfev=res.nfev,
-                                  final_error=np.max(np.abs(res.y[:, -1] - exact_end[:, 0]))))
-adaptive_work = pd.DataFrame(adaptive_work)
+adaptive_work = adaptive.work_precision(orbit, period, 8000 * 4 ** np.arange(5), RTOLS)
 outputs.save_data(adaptive_work, "adaptive-work")
 curves = {m: (g.nfev.to_numpy(), g.final_error.to_numpy())
           for m, g in adaptive_work.groupby("method", sort=False)}
@@ -198,24 +181,7 @@ print(f"evaluations of the uniform run / of the adaptive run at equal final erro
 # and the ratio of the two runs' evaluations.
 
 # %%
-matched = []
-for sweeps, kwargs in (("1 sweep", dict(iterations=1)), ("iterated", {})):
-    uniform_runs = adaptive_work[adaptive_work.method == f"uniform, {sweeps}"]
-    for row in adaptive_work[adaptive_work.method == f"adaptive, {sweeps}"].itertuples():
-        if not uniform_runs.final_error.min() < row.final_error < uniform_runs.final_error.max():
-            continue
-        near = uniform_runs.iloc[np.argmin(np.abs(np.log(uniform_runs.final_error
-                                                         / row.final_error)))]
-        n = int(round(period / near.setting * np.sqrt(near.final_error / row.final_error)))
-        res = orbit.solve(h=period / n, **kwargs)
-        matched.append(dict(
-            sweeps=sweeps, rtol=row.setting, adaptive_nfev=row.nfev,
-            adaptive_error=row.final_error, uniform_nfev=res.nfev,
-            uniform_error=np.max(np.abs(res.y[:, -1] - exact_end[:, 0])),
-            interpolated=diagnostics.loglog_interp(uniform_runs.final_error, uniform_runs.nfev,
-                                                   [row.final_error])[0] / row.nfev))
-matched = pd.DataFrame(matched)
-matched["direct"] = matched.uniform_nfev / matched.adaptive_nfev
+matched = adaptive.matched_uniform_runs(orbit, period, adaptive_work)
 outputs.save_data(matched, "adaptive-matched")
 direct = {s: (g.direct.min(), g.direct.max()) for s, g in matched.groupby("sweeps")}
 print(f"direct pairs: uniform error / adaptive error "
@@ -298,8 +264,6 @@ ORBITS = 300
 long_orbit = problems.eccentric(0.9, orbits=ORBITS)
 energy = long_orbit.invariants["energy"]
 e0 = energy(long_orbit.y0[:, None], long_orbit.yp0[:, None])[0]
-
-
 EPS = 1e-2
 reversible = splinestep.solve_reversible(long_orbit.fun, long_orbit.t_span, long_orbit.y0,
                                          long_orbit.yp0, EPS, problems.step_size_control,
@@ -307,9 +271,8 @@ reversible = splinestep.solve_reversible(long_orbit.fun, long_orbit.t_span, long
 controlled = long_orbit.solve(h="adaptive", rtol=0.1, atol=1e-4)
 long_rows, by_orbit = [], {}
 for label, res in (("reversible steps", reversible), ("adaptive knots, rtol 0.1", controlled)):
-    orbit = np.minimum(np.floor(res.t / period).astype(int), ORBITS - 1) + 1
-    by_orbit[label] = signed = pd.Series(energy(res.y, res.yp) - e0).groupby(orbit)
-    error = signed.apply(lambda g: g.abs().max())
+    by_orbit[label] = adaptive.energy_per_orbit(res, energy, e0, period, ORBITS)
+    error = by_orbit[label].apply(lambda g: g.abs().max())
     long_rows.append(pd.DataFrame(dict(method=label, orbit=error.index, energy_error=error.values,
                                        nfev_per_orbit=res.nfev / ORBITS)))
 long_table = pd.concat(long_rows, ignore_index=True)
@@ -323,15 +286,13 @@ print(f"adaptive:   {controlled.nfev / ORBITS:.0f} evaluations per orbit, larges
       f"{outputs.plain(ctl_err[-30:].max(), 2)}")
 # Where the adaptive run's error passes through zero: the orbits across which
 # the largest and the smallest H - H0 of an orbit change sign.
-ctl_signed = by_orbit["adaptive knots, rtol 0.1"]
-both_signs = np.flatnonzero((ctl_signed.max() > 0) & (ctl_signed.min() < 0)) + 1
-runs = np.split(both_signs, np.flatnonzero(np.diff(both_signs) > 1) + 1)
-through_zero = " and ".join(f"{r[0]}-{r[-1]}" for r in runs if r.size)
+through_zero = " and ".join(adaptive.orbits_changing_sign(by_orbit["adaptive knots, rtol 0.1"]))
 print(f"adaptive: H - H0 takes both signs within orbits {through_zero or 'none'}")
 # The text below says the error-controlled run's H - H0 keeps one sign: if a
 # run on another machine disagreed, the text would be wrong, so it stops here.
 assert not through_zero, through_zero
 
+# %%
 fig, ax = plt.subplots(figsize=(outputs.WIDTH, 4.2))
 ax.loglog(np.arange(1, ORBITS + 1), ctl_err, "C3.-", markersize=3, linewidth=0.8,
           label=f"adaptive knots, rtol 0.1 ({controlled.nfev / ORBITS:.0f} evaluations "

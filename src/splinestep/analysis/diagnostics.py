@@ -210,3 +210,15 @@ def phase_drift_from_passages(t, y, period):
     precession = np.polyfit(count, angles - 2 * np.pi * count, 1)[0]
     return (2 * np.pi * (period / computed_period - 1) + precession,
             computed_period / period - 1, precession)
+
+
+def phase_drifts(t, y, y_exact, period):
+    """The phase drift per orbit of a computed Kepler orbit measured both
+    ways: ``drift_from_angle`` (``phase_drift_from_angle``, against the
+    exact solution) and ``drift_from_passages`` with its two parts,
+    ``period_error`` and ``precession_per_orbit``
+    (``phase_drift_from_passages``, from the computed orbit alone)."""
+    by_passages, period_error, precession = phase_drift_from_passages(t, y, period)
+    return dict(drift_from_angle=phase_drift_from_angle(t, y, y_exact, period),
+                drift_from_passages=by_passages, period_error=period_error,
+                precession_per_orbit=precession)

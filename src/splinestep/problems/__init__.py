@@ -8,10 +8,12 @@
   and phase-error theory;
 - :func:`eccentric` -- a Kepler orbit of given eccentricity from periapsis;
 - :func:`pleiades` -- seven stars with close encounters (PLEI);
-- :func:`bratu` -- the Bratu boundary value problem and its two solutions.
+- :func:`bratu` -- the Bratu boundary value problem and its two solutions;
+- :func:`first_order` -- any of them as the first-order system scipy's
+  ``solve_ivp`` takes.
 """
 
-from ._problem import Problem
+from ._problem import Problem, first_order
 from .kepler import (CANNONBALL_MU, ORBIT_TYPES, acceleration_derivatives, cannonball,
                      step_size_control, eccentric, kepler_exact, orbit_elements, path_curvature)
 from .boundary import bratu
@@ -19,6 +21,6 @@ from .pleiades import pleiades
 from .oscillator import harmonic
 from .euler_top import euler_top_exact, rigid_body
 
-__all__ = ["Problem", "cannonball", "CANNONBALL_MU", "ORBIT_TYPES", "kepler_exact",
+__all__ = ["Problem", "first_order", "cannonball", "CANNONBALL_MU", "ORBIT_TYPES", "kepler_exact",
            "orbit_elements", "acceleration_derivatives", "path_curvature", "step_size_control",
            "rigid_body", "euler_top_exact", "harmonic", "eccentric", "pleiades", "bratu"]
