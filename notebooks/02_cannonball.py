@@ -54,9 +54,7 @@ print(f"spline: {per_step.min():.2f} to {per_step.max():.2f} evaluations per ste
 # ## Figure 1a: the four trajectories
 
 # %%
-rows = []
 fig, axes = plt.subplots(2, 2, figsize=(outputs.WIDTH, 5.0))
-separation = {}
 for ax, mu in zip(axes.flat, MUS):
     problem = problems.cannonball(mu)
     t = runs[mu]["spline"].t
@@ -76,15 +74,6 @@ for ax, mu in zip(axes.flat, MUS):
     ax.set_title(f"$\\mu = {mu:g}$ ({problems.ORBIT_TYPES[mu]})")
     ax.set_aspect("equal", adjustable="datalim")
     ax.xaxis.set_major_locator(plt.MaxNLocator(5))
-    # the largest distance between a numerical and the exact orbit, as a share of the panel
-    width = np.ptp(exact[0]) if np.ptp(exact[0]) > np.ptp(exact[1]) else np.ptp(exact[1])
-    separation[mu] = max(np.max(np.hypot(*(runs[mu][m].y - exact))) for m in runs[mu]) / width
-    stride = slice(None, None, 10)
-    rows.append(pd.DataFrame({
-        "mu": mu, "t": t[stride],
-        "x_spline": runs[mu]["spline"].y[0, stride], "y_spline": runs[mu]["spline"].y[1, stride],
-        "x_rk4": runs[mu]["rk4"].y[0, stride], "y_rk4": runs[mu]["rk4"].y[1, stride],
-        "x_exact": exact[0, stride], "y_exact": exact[1, stride]}))
 for ax in axes[1]:
     ax.set_xlabel("$x$ (launch radius = 1)")
 for ax in axes[:, 0]:
@@ -92,10 +81,11 @@ for ax in axes[:, 0]:
 handles, labels = axes[0, 0].get_legend_handles_labels()
 fig.legend(handles, labels, loc="outside right upper", frameon=False,
            title="Newton's cannonball,\n$t \\in [0, 50]$, $\\Delta t = 0.01$", title_fontsize=11)
-outputs.save_data(pd.concat(rows), "cannonball-trajectories")
+outputs.save_data(error_location.trajectories(runs), "cannonball-trajectories")
 outputs.save_figure(fig, "cannonball-trajectories")
 
 # %%
+separation = error_location.largest_separation(runs)
 worst = max(separation, key=separation.get)
 print(f"largest distance from the exact orbit: {separation[worst]:.2%} of the panel's width "
       f"(mu = {worst:g}), {900 * separation[worst]:.1f} pixel of a 900-pixel panel")

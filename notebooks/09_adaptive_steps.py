@@ -115,15 +115,8 @@ summary.round(2)
 # work-precision curves; above 1, the uniform step is cheaper):
 
 # %%
-def work_curve(frame):
-    frame = frame.sort_values("nfev")
-    return frame.nfev.to_numpy(), frame.error.to_numpy()
-
-
-cost = {name: diagnostics.work_ratio_range(work_curve(spline_rows[spline_rows.problem == name]),
-                                           work_curve(uniform_table[uniform_table.problem == name]))
-        for name in study}
-pd.DataFrame(cost, index=["adaptive / uniform evaluations, least", "most"]).T.round(2)
+tolerance.adaptive_over_uniform(spline_rows, uniform_table).rename(
+    columns=lambda c: f"adaptive / uniform evaluations, {c}").round(2)
 
 # %%
 fig, (ax, bx) = plt.subplots(1, 2, figsize=(outputs.WIDTH, 4.4))

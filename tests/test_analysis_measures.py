@@ -104,3 +104,30 @@ def test_error_histories_against_the_exact_orbit():
     assert np.allclose(frame.position_error, np.hypot(*(res.y - exact)), rtol=0, atol=1e-15)
     energy = 0.5 * np.sum(res.yp ** 2, axis=0) - MU / np.hypot(*res.y)
     assert np.allclose(frame.energy_error, np.abs(energy - energy[0]), rtol=0, atol=1e-15)
+
+
+def test_adaptive_over_uniform_reads_the_ratio_at_equal_error():
+    """Uniform runs that need exactly twice the adaptive evaluations at
+    every error: adaptive / uniform is 0.5 wherever both curves reach."""
+    from splinestep.analysis import tolerance
+    errors = np.geomspace(1e-8, 1e-3, 6)
+    adaptive_rows = pd.DataFrame(dict(problem="p", nfev=1e3 * errors ** -0.5, error=errors))
+    uniform_rows = pd.DataFrame(dict(problem="p", nfev=2e3 * errors[1:] ** -0.5,
+                                     error=errors[1:]))
+    table = tolerance.adaptive_over_uniform(adaptive_rows, uniform_rows)
+    assert table.loc["p", "least"] == pytest.approx(0.5, rel=1e-9)
+    assert table.loc["p", "most"] == pytest.approx(0.5, rel=1e-9)
+
+
+def test_trajectories_and_their_separation_from_the_exact_orbit():
+    from types import SimpleNamespace
+    t = np.linspace(0.0, 5.0, 51)
+    exact, _ = problems.kepler_exact(t, MU)
+    shifted = exact + np.array([[0.01], [0.0]])
+    runs = {MU: {"spline": SimpleNamespace(t=t, y=exact), "rk4": SimpleNamespace(t=t, y=shifted)}}
+    frame = error_location.trajectories(runs, stride=10)
+    assert list(frame.t) == list(t[::10])
+    assert np.allclose(frame.x_rk4 - frame.x_exact, 0.01, rtol=0, atol=1e-15)
+    assert np.array_equal(frame.y_spline, exact[1, ::10])
+    extent = max(np.ptp(exact[0]), np.ptp(exact[1]))
+    assert error_location.largest_separation(runs)[MU] == pytest.approx(0.01 / extent, rel=1e-9)

@@ -158,3 +158,46 @@ def error_histories(runs):
                 "momentum_error": np.abs(momentum - momentum[0]),
                 "position_error": np.hypot(*(res.y - exact))}))
     return pd.concat(frames, ignore_index=True)
+
+
+def trajectories(runs, stride=10):
+    """The cannonball runs' positions beside the exact ones, every
+    ``stride``-th output (the data behind notebook 02's Figure 1a).
+
+    Parameters
+    ----------
+    runs : dict
+        ``{mu: {"spline": result, "rk4": result}}`` on the same outputs.
+
+    Returns
+    -------
+    DataFrame
+        ``mu``, ``t``, ``x_spline``, ``y_spline``, ``x_rk4``, ``y_rk4``,
+        ``x_exact``, ``y_exact``.
+    """
+    frames = []
+    for mu, by_method in runs.items():
+        t = by_method["spline"].t
+        exact, _ = problems.cannonball(mu).exact(t)
+        columns = {"mu": mu, "t": t}
+        for name, y in (("spline", by_method["spline"].y), ("rk4", by_method["rk4"].y),
+                        ("exact", exact)):
+            columns[f"x_{name}"], columns[f"y_{name}"] = y[0], y[1]
+        frames.append(pd.DataFrame(columns).iloc[::stride])
+    return pd.concat(frames)
+
+
+def largest_separation(runs):
+    """Per orbit, the largest distance between a run and the exact orbit,
+    as a share of the orbit's larger extent in x or y (the width of its
+    panel in Figure 1a)."""
+    shares = {}
+    for mu, by_method in runs.items():
+        problem = problems.cannonball(mu)
+        worst = 0.0
+        for res in by_method.values():
+            exact, _ = problem.exact(res.t)
+            worst = max(worst, np.max(np.hypot(*(res.y - exact))))
+        exact, _ = problem.exact(by_method["spline"].t)
+        shares[mu] = worst / max(np.ptp(exact[0]), np.ptp(exact[1]))
+    return shares

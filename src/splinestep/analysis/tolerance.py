@@ -11,6 +11,7 @@ follows the tolerance proportionally.
 """
 
 import numpy as np
+import pandas as pd
 
 from .. import problems as _problems
 from .. import solve
@@ -93,3 +94,31 @@ def slope(rtols, errors):
     """The least-squares slope of log(error) against log(rtol): 1 when the
     error follows the tolerance proportionally."""
     return float(np.polyfit(np.log(rtols), np.log(errors), 1)[0])
+
+
+def adaptive_over_uniform(adaptive, uniform):
+    """What adaptive knots cost against a uniform step reaching the same
+    final error: the least and the largest ratio of their evaluations over
+    the errors both work-precision curves cover, per problem.
+
+    Parameters
+    ----------
+    adaptive, uniform : DataFrame
+        Rows of ``runs`` (the spline's) and of ``uniform_runs``, with a
+        ``problem`` column.
+
+    Returns
+    -------
+    DataFrame
+        Indexed by problem; ``least`` and ``most`` (above 1: the uniform
+        step is cheaper).
+    """
+    from .diagnostics import work_ratio_range
+
+    def curve(frame):
+        frame = frame.sort_values("nfev")
+        return frame.nfev.to_numpy(), frame.error.to_numpy()
+
+    rows = {name: work_ratio_range(curve(group), curve(uniform[uniform.problem == name]))
+            for name, group in adaptive.groupby("problem", sort=False)}
+    return pd.DataFrame.from_dict(rows, orient="index", columns=["least", "most"])
