@@ -118,9 +118,10 @@ print(f"RK4 amplitude factor / |R(ix)| - 1, largest: below 1e-10: {rk4_deviation
 print(f"RK4 amplitude factor from {phase.amplitude_factor_rk4.min():.4f} "
       f"to {phase.amplitude_factor_rk4.max():.4f}")
 flagged = phase[phase.step_flagged]
-print(f"runs warned 'step too large': {len(flagged)} of {len(phase)}, "
-      f"omega h from {flagged.omega_h.min():.3f} on, where 400 steps lose "
-      f"{400 * flagged.omega_h.min() ** 3 / 24:.2f} rad of phase")
+print(outputs.wrapped(
+    f"runs warned 'step too large': {len(flagged)} of {len(phase)}, "
+    f"omega h from {flagged.omega_h.min():.3f} on, where 400 steps lose "
+    f"{400 * flagged.omega_h.min() ** 3 / 24:.2f} rad of phase"))
 
 # %% [markdown]
 # These runs go up to the stability limit on purpose, and each run also

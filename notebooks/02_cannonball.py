@@ -35,10 +35,11 @@ for mu in MUS:
     for method, res in runs[mu].items():
         assert res.success, res.message
     elements = problems.orbit_elements(mu)
-    print(f"mu = {mu:.1f} ({problems.ORBIT_TYPES[mu]:>10}): energy {elements['energy']:+.2f}, "
-          f"eccentricity {elements['eccentricity']:.3f}; {runs[mu]['spline'].nstep} steps, "
-          f"spline {runs[mu]['spline'].nfev / runs[mu]['spline'].nstep:.2f} "
-          f"evaluations per step, RK4 {runs[mu]['rk4'].nfev / runs[mu]['rk4'].nstep:.2f}")
+    print(outputs.wrapped(
+        f"mu = {mu:.1f} ({problems.ORBIT_TYPES[mu]:>10}): energy {elements['energy']:+.2f}, "
+        f"eccentricity {elements['eccentricity']:.3f}; {runs[mu]['spline'].nstep} steps, "
+        f"spline {runs[mu]['spline'].nfev / runs[mu]['spline'].nstep:.2f} "
+        f"evaluations per step, RK4 {runs[mu]['rk4'].nfev / runs[mu]['rk4'].nstep:.2f}"))
 per_step = np.array([runs[mu]["spline"].nfev / runs[mu]["spline"].nstep for mu in MUS])
 print(f"spline: {per_step.min():.2f} to {per_step.max():.2f} evaluations per step, "
       f"{per_step.min() / 4:.0%} to {per_step.max() / 4:.0%} of RK4's four")
@@ -87,8 +88,9 @@ outputs.save_figure(fig, "cannonball-trajectories")
 # %%
 separation = error_location.largest_separation(runs)
 worst = max(separation, key=separation.get)
-print(f"largest distance from the exact orbit: {separation[worst]:.2%} of the panel's width "
-      f"(mu = {worst:g}), {900 * separation[worst]:.1f} pixel of a 900-pixel panel")
+print(outputs.wrapped(
+    f"largest distance from the exact orbit: {separation[worst]:.2%} of the panel's width "
+    f"(mu = {worst:g}), {900 * separation[worst]:.1f} pixel of a 900-pixel panel"))
 
 # %% [markdown]
 # The exact orbit is the grey band, drawn once per period; the spline's
@@ -172,8 +174,9 @@ print(f"ellipse, spline: position error first above 1e-3 at t = {above.min():.2f
 lo, hi = ratios.stack().idxmin(), ratios.stack().idxmax()
 name = {"energy_error": "energy", "momentum_error": "angular momentum",
         "position_error": "position"}
-print(f"RK4 more accurate by a factor from {ratios.min().min():.0f} (mu = {lo[0]:g}, "
-      f"{name[lo[1]]}) to {outputs.plain(ratios.max().max(), 1)} (mu = {hi[0]:g}, {name[hi[1]]})")
+print(outputs.wrapped(
+    f"RK4 more accurate by a factor from {ratios.min().min():.0f} (mu = {lo[0]:g}, "
+    f"{name[lo[1]]}) to {outputs.plain(ratios.max().max(), 1)} (mu = {hi[0]:g}, {name[hi[1]]})"))
 
 # %% [markdown]
 # The spline's energy and angular-momentum errors stay below $10^{-5}$ on
@@ -218,13 +221,14 @@ elements = problems.orbit_elements(0.6)
 e = elements["eccentricity"]
 r_peri, r_apo = elements["a"] * (1 - e), elements["a"] * (1 + e)
 print(f"period {elements['period']:.2f}, periapsis r = {r_peri:.0f}, apoapsis r = {r_apo:.0f}")
-print(f"path curvature smallest, {value.min_curvature:.3g}, at r = {value.r_min_curvature:.2f}; "
-      f"energy error {outputs.plain(value.energy_error_apoapsis)} at apoapsis, "
+print(f"path curvature smallest, {value.min_curvature:.3g}, at r = {value.r_min_curvature:.2f}")
+print(f"energy error {outputs.plain(value.energy_error_apoapsis)} at apoapsis, "
       f"{outputs.plain(value.energy_error_next_periapsis)} at the next periapsis")
-print(f"{value.energy_variation_share_r_lt_1_5:.0%} of the energy error's variation at r < 1.5, "
-      f"in {value.time_share_r_lt_1_5:.0%} of the time; largest position error "
-      f"{outputs.plain(value.max_position_error)} at t = {value.t_max_position_error:.2f} "
-      f"(r = {value.r_max_position_error:.2f})")
+print(outputs.wrapped(
+    f"{value.energy_variation_share_r_lt_1_5:.0%} of the energy error's variation at r < 1.5, "
+    f"in {value.time_share_r_lt_1_5:.0%} of the time"))
+print(f"largest position error {outputs.plain(value.max_position_error)} at "
+      f"t = {value.t_max_position_error:.2f} (r = {value.r_max_position_error:.2f})")
 error_location.candidates(location).agg({
     "periapsis arc / apoapsis arc": lambda v: v.map(
         lambda x: outputs.plain(x, 2) if x > 1000 else f"{x:.2f}"),

@@ -110,10 +110,11 @@ outputs.save_figure(fig, "rigid-body-angular-velocity")
 # %%
 amplitude = {case: np.max(np.abs(references[case][0][1:]), axis=1) for case in CASES}
 swing = {case: np.ptp(references[case][0][0]) for case in CASES}
-print(f"omega_1 varies by at most {max(swing.values()):.1e}; amplitudes of omega_2, omega_3: "
-      + "; ".join(f"{case} {amplitude[case][0]:.4f} and {amplitude[case][1]:.4f}"
-                  for case in CASES)
-      + f"; printed case: |omega_2 - omega_3| <= {coincide['printed']:.0e}")
+print(outputs.wrapped(
+    f"omega_1 varies by at most {max(swing.values()):.1e}; amplitudes of omega_2, omega_3: "
+    + ", ".join(f"{case} {amplitude[case][0]:.4f} and {amplitude[case][1]:.4f}"
+                for case in CASES)
+    + f"; printed case: |omega_2 - omega_3| <= {coincide['printed']:.0e}"))
 
 # %% [markdown]
 # The body spins about its axis of largest moment, a stable motion:
@@ -176,11 +177,12 @@ summary["spline_evaluations_per_step"] = [runs[c]["spline"].nfev / runs[c]["spli
                                           for c in summary.case]
 outputs.save_data(summary, "rigid-body-max-errors")
 for row in summary.itertuples():
-    print(f"{row.case:>10}: max |E - E0| spline {row.energy_change_spline:.2e}, "
-          f"RK4 {row.energy_change_rk4:.2e}, reference {row.energy_change_reference:.2e}; "
-          f"max |omega - reference| spline {row.solution_error_spline:.2e}, "
-          f"RK4 {row.solution_error_rk4:.2e}; spline evaluations per step "
-          f"{row.spline_evaluations_per_step:.2f}")
+    print(outputs.wrapped(
+        f"{row.case:>10}: max |E - E0| spline {row.energy_change_spline:.2e}, "
+        f"RK4 {row.energy_change_rk4:.2e}, reference {row.energy_change_reference:.2e}; "
+        f"max |omega - reference| spline {row.solution_error_spline:.2e}, "
+        f"RK4 {row.solution_error_rk4:.2e}; spline evaluations per step "
+        f"{row.spline_evaluations_per_step:.2f}"))
 figure_2b
 
 # %% [markdown]
@@ -221,10 +223,11 @@ for method, res in long_runs.items():
     drift.append(dict(method=method, energy_error_t80=e[np.searchsorted(res.t, 80.0)],
                       energy_error_t800=e[-1], max_energy_error=e.max(),
                       growth_ratio=diagnostics.growth_ratio(res.t, e), drift_rate=slope))
-    print(f"{method:>6}: |E - E0| at t = 80: {drift[-1]['energy_error_t80']:.2e}, "
-          f"at t = 800: {e[-1]:.2e}; largest in each eighth of the run: "
-          + ", ".join(f"{m:.1e}" for m in maxima)
-          + f"; growth ratio {drift[-1]['growth_ratio']:.1f}")
+    print(outputs.wrapped(
+        f"{method:>6}: |E - E0| at t = 80: {drift[-1]['energy_error_t80']:.2e}, "
+        f"at t = 800: {e[-1]:.2e}; largest in each eighth of the run: "
+        + ", ".join(f"{m:.1e}" for m in maxima)
+        + f"; growth ratio {drift[-1]['growth_ratio']:.1f}"))
 drift = pd.DataFrame(drift)
 outputs.save_data(drift, "rigid-body-energy-drift")
 spline_drift = drift.set_index("method").loc["spline"]

@@ -188,8 +188,9 @@ for method in METHODS:
             print(f"{method:<20} error {target:.0e}: not reached; {nfev.max()} evaluations "
                   f"give {error.min():.1e}")
         else:
-            print(f"{method:<20} error {target:.0e}: already below with the fewest tested, "
-                  f"{nfev.min()} evaluations give {error[np.argmin(nfev)]:.1e}")
+            print(outputs.wrapped(
+                f"{method:<20} error {target:.0e}: already below with the fewest tested, "
+                f"{nfev.min()} evaluations give {error[np.argmin(nfev)]:.1e}"))
 reach = pd.DataFrame(reach)
 outputs.save_data(reach, "work-to-reach")
 # Error ratios at equal work from the points above the fit floor: below it
@@ -205,15 +206,17 @@ outputs.save_data(ratios, "work-precision-ratios")
 for row in ratios.itertuples():
     overlap = (outputs.span((row.ratio_min, row.ratio_max)) if np.isfinite(row.ratio_min)
                else "no common range of evaluations")
-    print(f"error of {row.method} / error of {row.baseline} at equal evaluations: {overlap}")
+    print(outputs.wrapped(
+        f"error of {row.method} / error of {row.baseline} at equal evaluations: {overlap}"))
 
 # %%
 cost = work.pivot_table(index="setting", columns="method", values="nfev")
 share = (cost["spline (1 sweep)"] / cost["spline (converged)"]).dropna()
 check_evaluations = 3 * (2 * problem.y0.size + 1)   # 2m + 1 at each of three states
-print(f"one sweep costs {share.min():.0%} to {share.max():.0%} of the iterated evaluations; "
-      f"the step-size check after each run: {check_evaluations} evaluations, "
-      f"{check_evaluations / cost['spline (1 sweep)'].min():.1%} of the run at the largest step")
+print(outputs.wrapped(
+    f"one sweep costs {share.min():.0%} to {share.max():.0%} of the iterated evaluations; "
+    f"the step-size check after each run: {check_evaluations} evaluations, "
+    f"{check_evaluations / cost['spline (1 sweep)'].min():.1%} of the run at the largest step"))
 
 # %% [markdown]
 # One sweep per step is enough for the order (the iterated and the

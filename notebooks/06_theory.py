@@ -104,9 +104,10 @@ def relation_residual(run):
 converged = ellipse.solve(h=0.01, tol=1e-15, t_eval=None)
 one_sweep = ellipse.solve(h=0.01, iterations=1, t_eval=None)
 converged_residual, one_sweep_residual = relation_residual(converged), relation_residual(one_sweep)
-print(f"largest residual of the relation with F evaluated at the knots (ellipse, "
-      f"{converged.nstep} steps): converged steps below 1e-14: {converged_residual < 1e-14}; "
-      f"one sweep per step ~1e{np.log10(one_sweep_residual):.0f}")
+print(outputs.wrapped(
+    f"largest residual of the relation with F evaluated at the knots (ellipse, "
+    f"{converged.nstep} steps): converged steps below 1e-14: {converged_residual < 1e-14}; "
+    f"one sweep per step ~1e{np.log10(one_sweep_residual):.0f}"))
 
 # %% [markdown]
 # So the $y_n$ of the spline stepper obey a linear two-step method for
@@ -285,9 +286,8 @@ check_fires = bisect(lambda v: check.growth(np.array([[-1.0]]), np.array([[0.0]]
                                             1 / 6, 1 / 2)[0] > 1 + check.GROWTH_MARGIN,
                      3.0, 4.0, steps=60)
 print(f"the step-too-large check fires above omega h = {check_fires:.7f}")
-print("at omega h = sqrt(12), from (y, h y') = (0, 1): |y_n| = " + ", ".join(
-    f"{g:.4g} (n = {n})" for g, n in zip(growth_at_limit, (10, 100, 1000)))
-      + "; derived n/3")
+print(outputs.wrapped("at omega h = sqrt(12), from (y, h y') = (0, 1): |y_n| = " + ", ".join(
+    f"{g:.4g} (n = {n})" for g, n in zip(growth_at_limit, (10, 100, 1000))) + "; derived n/3"))
 print(f"sweep limit, measured {sweep:.6f}, derived sqrt(6) = {float(sweep_limit):.6f}")
 constants += [
     dict(quantity="period error, coefficient of (omega h)^2", derived=leading,
@@ -403,4 +403,5 @@ constants.append(dict(quantity="conjugacy: max |Verlet on f~ - phi(spline)| over
 constants = pd.DataFrame(constants)
 outputs.save_data(constants, "theory-constants")
 for row in constants.itertuples():
-    print(f"{row.quantity:<72} derived {row.derived: .6g}  measured {row.measured: .6g}")
+    print(outputs.wrapped(
+        f"{row.quantity:<72} derived {row.derived: .6g}  measured {row.measured: .6g}"))

@@ -47,7 +47,7 @@ for k in (3, 4, 5, 6):
     largest = max((abs(r) for r in spurious), default=0.0)
     rows.append(dict(degree=k, polynomial=str(poly), first_order_polynomial=str(first),
                      largest_spurious_root=largest))
-    print(f"degree {k}: {poly}   (first order, degree {k - 1}: {first})")
+    print(outputs.wrapped(f"degree {k}: {poly}   (first order, degree {k - 1}: {first})"))
 roots_table = pd.DataFrame(rows)
 
 # %% [markdown]
@@ -94,8 +94,9 @@ for k in (5, 6):
     use = (e > 1e-13) & (e < 1e100)
     factor = np.exp(np.polyfit(np.arange(e.size)[use], np.log(e[use]), 1)[0])
     growth.append(factor)
-    print(f"degree {k}: error grows by {factor:.4f} per step "
-          f"(largest spurious root {roots_table.set_index('degree').largest_spurious_root[k]:.4f})")
+    print(outputs.wrapped(
+        f"degree {k}: error grows by {factor:.4f} per step "
+        f"(largest spurious root {roots_table.set_index('degree').largest_spurious_root[k]:.4f})"))
 roots_table["measured_growth_per_step"] = [np.nan, np.nan] + growth
 
 a0, a1, a2 = problems.acceleration_derivatives(ellipse.y0[:, None], ellipse.yp0[:, None], mu)
@@ -108,8 +109,9 @@ quartic_slope = np.polyfit(np.log([0.04, 0.02, 0.01]), np.log(orbit_errors), 1)[
 wrong_start = solve_degree(ellipse.fun, (0.0, period_T), ellipse.y0, ellipse.yp0, 0.01, 4,
                            derivatives=np.zeros((1, 2)), args=ellipse.args)
 wrong_start_error = np.max(np.abs(wrong_start.y - ellipse.reference(wrong_start.t)[0]))
-print("degree 4 on one orbit of the ellipse, dt = 0.04, 0.02, 0.01: max position errors "
-      + ", ".join(f"{e:.2e}" for e in orbit_errors) + f"; fitted order {quartic_slope:.2f}")
+print(outputs.wrapped(
+    "degree 4 on one orbit of the ellipse, dt = 0.04, 0.02, 0.01: max position errors "
+    + ", ".join(f"{e:.2e}" for e in orbit_errors) + f"; fitted order {quartic_slope:.2f}"))
 print(f"degree 4 started with y'''(0) = 0 instead of its value: error {wrong_start_error:.2e}")
 
 damped = solve_degree(lambda t, y, yp: -y - damping * yp, (0.0, 60.0), 1.0, 0.0, 0.05, 4,

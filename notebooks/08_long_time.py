@@ -108,33 +108,39 @@ print(f"spline: {work['spline']:.3f} evaluations per step; RK4 at the same work:
 # DOP853's count depends on its step sequence, which differs between CPUs by
 # a few per cent (tests/reproduction.py): one digit (195 per orbit is 190 on
 # one CPU and 200 on another at two digits).
-print("evaluations per orbit: " + ", ".join(
+print(outputs.wrapped("evaluations per orbit: " + "; ".join(
     f"{m} {outputs.round_sig(v, 1 if m == dop_label else 2):.0f}"
-    for m, v in evaluations_per_orbit.items()))
+    for m, v in evaluations_per_orbit.items())))
 
 
 # %%
 GROWTH_FROM = 100  # the power law is fitted from this orbit on (long_time.fitted_growth)
 drift = long_time_analysis.drift_table(long_time, evaluations_per_orbit, GROWTH_FROM)
-for row in drift.itertuples():
-    if row.method.startswith("DOP853"):
-        # Its step sequence, and with it the size of its errors, differs from one
-        # CPU to another by up to a few tens of percent (tests/reproduction.py):
-        # the exponents' first decimal and the errors' decade are what reproduce.
-        print(f"{row.method:<18} to orbit {row.orbits:>5}: energy error ~ orbits^"
-              f"{row.energy_exponent:+.1f} (final ~1e{np.log10(row.final_energy_error):.0f}), "
-              f"angular momentum ~ orbits^{row.momentum_exponent:+.1f} "
-              f"(final ~1e{np.log10(row.final_momentum_error):.0f})")
-        continue
-    momentum = (f"~ orbits^{outputs.signed(row.momentum_exponent)}"
-                if np.isfinite(row.momentum_exponent) else "conserved to rounding")
-    print(f"{row.method:<18} to orbit {row.orbits:>5}: energy error ~ orbits^"
-          f"{outputs.signed(row.energy_exponent)} (final {row.final_energy_error:.1e}), "
-          f"angular momentum {momentum} (final {row.final_momentum_error:.0e})")
 outputs.save_data(drift, "long-time-drift")
 spline_windows = long_time[long_time.method == "spline"]
-print(f"spline, modified energy H~: largest error {spline_windows.modified_energy_error.max():.1e}; "
-      f"modified angular momentum: {spline_windows.modified_momentum_error.max():.1e}")
+print(f"spline, modified energy H~: largest error "
+      f"{outputs.plain(spline_windows.modified_energy_error.max())}; modified angular momentum: "
+      f"{outputs.plain(spline_windows.modified_momentum_error.max())}")
+
+
+def readable(row):
+    """A row of the drift table to the digits that reproduce.  DOP853's step
+    sequence, and with it the size of its errors, differs from one CPU to
+    another by up to a few tens of percent (tests/reproduction.py): its
+    exponents' first decimal and its errors' decade are what reproduce."""
+    rough = row.method.startswith("DOP853")
+    exponent = (lambda v: f"{v:+.1f}") if rough else outputs.signed
+    error = ((lambda v, d: "~" + outputs.plain(10.0 ** np.round(np.log10(v)), 1)) if rough
+             else outputs.plain)
+    momentum = (exponent(row.momentum_exponent) if np.isfinite(row.momentum_exponent)
+                else "conserved")
+    return {"orbits": f"{row.orbits:,}", "energy error ~ orbit^b: b": exponent(row.energy_exponent),
+            "final energy error": error(row.final_energy_error, 2),
+            "angular momentum: b": momentum,
+            "final momentum error": error(row.final_momentum_error, 1)}
+
+
+pd.DataFrame([readable(row) for row in drift.itertuples()], index=drift.method)
 
 # %%
 fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0), sharex=True)
@@ -163,24 +169,27 @@ outputs.save_figure(fig, "long-time-invariants")
 
 # %%
 d = drift.set_index("method")
-rk4_work_final = d.loc["RK4, same work", "final_energy_error"]
-rk4_crossing = 1 + ((d.loc["spline", "final_energy_error"] - d.loc["RK4, same work", "energy_error_start"])
-                    / d.loc["RK4, same work", "energy_drift_per_orbit"])
+rk4 = d.loc["RK4, same work"]
+rk4_crossing = 1 + (d.loc["spline", "final_energy_error"] - rk4.energy_error_start) / (
+    rk4.energy_drift_per_orbit)
 sweep_row = d.loc["spline, 1 sweep"]
 sweep_first = long_time[long_time.method == "spline, 1 sweep"].energy_error.iloc[0]
-print(f"RK4, same work: energy error {d.loc['RK4, same work', 'energy_error_start']:.3e} "
-      f"+ {d.loc['RK4, same work', 'energy_drift_per_orbit']:.2e} (orbit - 1); reaches the "
-      f"spline's {d.loc['spline', 'final_energy_error']:.1e} near orbit "
-      f"{outputs.round_sig(rk4_crossing, 2):,.0f}")
-print(f"RK4, same work: fitted exponent {d.loc['RK4, same work', 'energy_exponent']:.2f} from "
-      f"orbit {GROWTH_FROM} on, {rk4_work_final:.1e} after {ORBITS:,} orbits, the spline's "
-      f"error reached {outputs.round_sig(rk4_crossing / ORBITS, 1):.0f} times past the run")
-print(f"spline, 1 sweep: energy error {sweep_first:.1e} in the first orbit, "
-      f"{sweep_row.final_energy_error:.1e} in the last (exponent {sweep_row.energy_exponent:.2f}, "
-      f"{sweep_row.energy_drift_per_orbit:.1e} per orbit)")
-print(f"{dop_label}: first-orbit error {outputs.round_sig(1 / dop_ratio, 2):.0f} "
-      f"times smaller than the spline's; energy-error exponent "
-      f"{d.loc[dop_label, 'energy_exponent']:.1f} over its {DOP_ORBITS:,} orbits")
+print(outputs.wrapped(
+    f"RK4, same work: energy error {rk4.energy_error_start:.3e} "
+    f"+ {rk4.energy_drift_per_orbit:.2e} (orbit - 1); fitted exponent "
+    f"{rk4.energy_exponent:.2f} from orbit {GROWTH_FROM} on; {rk4.final_energy_error:.1e} "
+    f"after {ORBITS:,} orbits; it reaches the spline's "
+    f"{d.loc['spline', 'final_energy_error']:.1e} near orbit "
+    f"{outputs.round_sig(rk4_crossing, 2):,.0f}, "
+    f"{outputs.round_sig(rk4_crossing / ORBITS, 1):.0f} times past the run"))
+print(outputs.wrapped(
+    f"spline, 1 sweep: energy error {sweep_first:.1e} in the first orbit, "
+    f"{sweep_row.final_energy_error:.1e} in the last; exponent "
+    f"{sweep_row.energy_exponent:.2f}, {sweep_row.energy_drift_per_orbit:.1e} per orbit"))
+print(outputs.wrapped(
+    f"{dop_label}: first-orbit error {outputs.round_sig(1 / dop_ratio, 2):.0f} "
+    f"times smaller than the spline's; energy-error exponent "
+    f"{d.loc[dop_label, 'energy_exponent']:.1f} over its {DOP_ORBITS:,} orbits"))
 
 # %% [markdown]
 # Over the 10,000 orbits the spline's energy error does not grow (fitted
@@ -255,10 +264,11 @@ assert agreement < 1e-2, agreement
 phase_ratio = phase.loc["spline", "drift_from_angle"] / phase.loc["Verlet", "drift_from_angle"]
 print(f"the two ways agree to {agreement:.0e} (relative); spline / Verlet = {phase_ratio:.2f}")
 sweep_phase = phase.loc["spline, 1 sweep"]
-print(f"lag per orbit: spline {-phase.loc['spline', 'drift_from_angle']:.2e} rad, Verlet "
-      f"{-phase.loc['Verlet', 'drift_from_angle']:.2e} rad; one sweep: the two ways agree to "
-      f"{abs(sweep_phase.drift_from_passages / sweep_phase.drift_from_angle - 1):.0e}, "
-      f"its mean period is short by {-sweep_phase.period_error:.1e}")
+print(outputs.wrapped(
+    f"lag per orbit: spline {-phase.loc['spline', 'drift_from_angle']:.2e} rad, Verlet "
+    f"{-phase.loc['Verlet', 'drift_from_angle']:.2e} rad; one sweep: the two ways agree to "
+    f"{abs(sweep_phase.drift_from_passages / sweep_phase.drift_from_angle - 1):.0e}, "
+    f"its mean period is short by {-sweep_phase.period_error:.1e}"))
 
 # %% [markdown]
 # Both methods lag: the spline by $5.9 \times 10^{-4}$ rad per orbit,
@@ -312,8 +322,9 @@ mean_rate = np.mean(rate)
 fitted_drift = np.polyfit(long_body.t, E - E[0], 1)[0]
 print(f"|delta| growth ratio over eight parts of t in [0, 800]: {delta_growth:.1f}")
 print(f"mean of sum I w delta: {mean_rate:.2e}; fitted drift of E: {fitted_drift:.2e} per unit time")
-print(f"E - E0 against the trapezoidal integral of sum I w delta: mismatch "
-      f"~1e{np.log10(mismatch):.0f} of max |E - E0| (quadrature error)")
+print(outputs.wrapped(
+    f"E - E0 against the trapezoidal integral of sum I w delta: mismatch "
+    f"~1e{np.log10(mismatch):.0f} of max |E - E0| (quadrature error)"))
 # %% [markdown]
 # Over $t \in [0, 800]$ the energy error equals the integral of
 # $\sum_i I_i\omega_i\delta_i$ to the trapezoidal rule's accuracy: that is
@@ -362,9 +373,10 @@ per_step = (one_sweep_cost.nfev.to_numpy() - 1) / (50.0 / one_sweep_cost.dt.to_n
 print(f"spline with one sweep: {per_step.min():.2f} to {per_step.max():.2f} evaluations per step "
       f"after the first (Verlet: "
       f"{((verlet_cost.nfev.to_numpy() - 1) / (50.0 / verlet_cost.dt.to_numpy())).max():.2f})")
-print(f"at the same step: spline error / Verlet error {step_ratio.min():.2f} to "
-      f"{step_ratio.max():.2f}; the step-size check adds {3 * (2 * ellipse.y0.size + 1)} "
-      f"evaluations per run")
+print(outputs.wrapped(
+    f"at the same step: spline error / Verlet error {step_ratio.min():.2f} to "
+    f"{step_ratio.max():.2f}; the step-size check adds {3 * (2 * ellipse.y0.size + 1)} "
+    f"evaluations per run"))
 
 # %% [markdown]
 # At the same step the spline's error is about 1.84 times Verlet's at

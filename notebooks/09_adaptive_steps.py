@@ -71,9 +71,10 @@ resolved = estimates[estimates.true > ROUNDING_LEVEL]
 ratio = resolved.estimated / resolved.true
 print(f"{run.nstep} steps over one period ({run.n_rejected} rejected); step sizes "
       f"{outputs.plain(np.diff(run.t).min())} to {outputs.plain(np.diff(run.t).max())}")
-print(f"estimated / true local error over the {len(resolved)} of {len(estimates)} sampled "
-      f"steps whose error is above {ROUNDING_LEVEL:g}: median {np.median(ratio):.2f}, "
-      f"middle 90 % from {np.quantile(ratio, 0.05):.2f} to {np.quantile(ratio, 0.95):.2f}")
+print(outputs.wrapped(
+    f"estimated / true local error over the {len(resolved)} of {len(estimates)} sampled "
+    f"steps whose error is above {ROUNDING_LEVEL:g}: median {np.median(ratio):.2f}, "
+    f"middle 90 % from {np.quantile(ratio, 0.05):.2f} to {np.quantile(ratio, 0.95):.2f}"))
 
 # %% [markdown]
 # ### What rtol means: a tolerance on the global error
@@ -163,9 +164,10 @@ curves = {m: (g.nfev.to_numpy(), g.final_error.to_numpy())
 gain_one = diagnostics.work_ratio_range(curves["uniform, 1 sweep"], curves["adaptive, 1 sweep"])
 gain_iter = diagnostics.work_ratio_range(curves["uniform, iterated"],
                                          curves["adaptive, iterated"])
-print(f"evaluations of the uniform run / of the adaptive run at equal final error "
-      f"(interpolated on the curves): one sweep {outputs.span(gain_one)}, iterated "
-      f"{outputs.span(gain_iter)}")
+print(outputs.wrapped(
+    f"evaluations of the uniform run / of the adaptive run at equal final error "
+    f"(interpolated on the curves): one sweep {outputs.span(gain_one)}, iterated "
+    f"{outputs.span(gain_iter)}"))
 
 # %% [markdown]
 # The same ratio measured a second way, without interpolating: for each
@@ -177,12 +179,13 @@ print(f"evaluations of the uniform run / of the adaptive run at equal final erro
 matched = adaptive.matched_uniform_runs(orbit, period, adaptive_work)
 outputs.save_data(matched, "adaptive-matched")
 direct = {s: (g.direct.min(), g.direct.max()) for s, g in matched.groupby("sweeps")}
-print(f"direct pairs: uniform error / adaptive error "
-      f"{matched.uniform_error.div(matched.adaptive_error).min():.2f} to "
-      f"{matched.uniform_error.div(matched.adaptive_error).max():.2f}; evaluations "
-      f"one sweep {outputs.span(direct['1 sweep'])}, iterated {outputs.span(direct['iterated'])}; "
-      f"largest difference from the interpolated ratio "
-      f"{np.max(np.abs(matched.direct / matched.interpolated - 1)):.0%}")
+print(outputs.wrapped(
+    f"direct pairs: uniform error / adaptive error "
+    f"{matched.uniform_error.div(matched.adaptive_error).min():.2f} to "
+    f"{matched.uniform_error.div(matched.adaptive_error).max():.2f}; evaluations "
+    f"one sweep {outputs.span(direct['1 sweep'])}, iterated {outputs.span(direct['iterated'])}; "
+    f"largest difference from the interpolated ratio "
+    f"{np.max(np.abs(matched.direct / matched.interpolated - 1)):.0%}"))
 
 # %%
 fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0))
@@ -217,9 +220,10 @@ outputs.save_figure(fig, "adaptive-knots")
 steps = np.diff(run.t)
 r_knots = np.hypot(*run.y)
 at_apoapsis = steps[np.argmax(r_knots[1:])]   # the step that ends nearest apoapsis
-print(f"steps: first {steps[0]:.1e}, last {steps[-1]:.1e}, largest {steps.max():.2g} at r = "
-      f"{r_knots[1:][np.argmax(steps)]:.2f}; at apoapsis (r = {r_knots.max():.2f}) "
-      f"{at_apoapsis:.2g}; estimate / true error, median {np.median(ratio):.2f}")
+print(outputs.wrapped(
+    f"steps: first {steps[0]:.1e}, last {steps[-1]:.1e}, largest {steps.max():.2g} at r = "
+    f"{r_knots[1:][np.argmax(steps)]:.2f}; at apoapsis (r = {r_knots.max():.2f}) "
+    f"{at_apoapsis:.2g}; estimate / true error, median {np.median(ratio):.2f}"))
 
 # %% [markdown]
 # The estimate follows the true local error through the periapsis
@@ -272,11 +276,13 @@ long_table = pd.concat(long_rows, ignore_index=True)
 outputs.save_data(long_table, "variable-step-energy")
 rev_err = long_table[long_table.method == "reversible steps"].energy_error.to_numpy()
 ctl_err = long_table[long_table.method != "reversible steps"].energy_error.to_numpy()
-print(f"reversible: {reversible.nfev / ORBITS:.0f} evaluations per orbit, largest energy "
-      f"error per orbit from {rev_err.min():.4e} to {rev_err.max():.4e}")
-print(f"adaptive:   {controlled.nfev / ORBITS:.0f} evaluations per orbit, largest energy error "
-      f"in the first orbit {outputs.plain(ctl_err[0], 1)}, over the last 30 orbits "
-      f"{outputs.plain(ctl_err[-30:].max(), 2)}")
+print(outputs.wrapped(
+    f"reversible: {reversible.nfev / ORBITS:.0f} evaluations per orbit, largest energy "
+    f"error per orbit from {rev_err.min():.4e} to {rev_err.max():.4e}"))
+print(outputs.wrapped(
+    f"adaptive:   {controlled.nfev / ORBITS:.0f} evaluations per orbit, largest energy error "
+    f"in the first orbit {outputs.plain(ctl_err[0], 1)}, over the last 30 orbits "
+    f"{outputs.plain(ctl_err[-30:].max(), 2)}"))
 # Where the adaptive run's error passes through zero: the orbits across which
 # the largest and the smallest H - H0 of an orbit change sign.
 through_zero = " and ".join(adaptive.orbits_changing_sign(by_orbit["adaptive knots, rtol 0.1"]))
@@ -300,9 +306,10 @@ ax.legend(loc="upper left", fontsize=outputs.MIN_FONT)
 outputs.save_figure(fig, "variable-step-energy")
 
 # %%
-print(f"reversible: largest energy error per orbit {rev_err.mean():.1e} on average, varying by "
-      f"{rev_err.max() - rev_err.min():.0e}; adaptive: {ctl_err[0]:.0e} in the first orbit, "
-      f"{ctl_err[-30:].max():.1e} over the last 30")
+print(outputs.wrapped(
+    f"reversible: largest energy error per orbit {rev_err.mean():.1e} on average, varying by "
+    f"{rev_err.max() - rev_err.min():.0e}; adaptive: {ctl_err[0]:.0e} in the first orbit, "
+    f"{ctl_err[-30:].max():.1e} over the last 30"))
 
 # %% [markdown]
 # The reversible steps keep the largest energy error in each orbit at

@@ -82,11 +82,12 @@ order6_floor = {(h, tol): np.max(np.abs(ellipse.solve(h=h, order=6, t_eval=t_rep
                                         - exact_report))
                 for h, tol in ((0.02, 1e-12), (0.01, 1e-15))}
 tighter = order6_floor[(0.01, 1e-15)] / at_report_step[6]
-print(f"order 6: dt = 0.02 -> 0.01 divides the error by "
-      f"{order6_floor[(0.02, 1e-12)] / at_report_step[6]:.0f} (order 6: 64); at dt = 0.01 with "
-      f"the step equation solved to 1e-15 instead of 1e-12 the error is "
-      f"{'within a factor 2 of' if 0.5 < tighter < 2 else 'not within a factor 2 of'} the "
-      f"default's")
+print(outputs.wrapped(
+    f"order 6: dt = 0.02 -> 0.01 divides the error by "
+    f"{order6_floor[(0.02, 1e-12)] / at_report_step[6]:.0f} (order 6: 64); at dt = 0.01 with "
+    f"the step equation solved to 1e-15 instead of 1e-12 the error is "
+    f"{'within a factor 2 of' if 0.5 < tighter < 2 else 'not within a factor 2 of'} the "
+    f"default's"))
 print(f"the order-6 run at dt = 0.01: {7 * (round(50 / 0.01) - 2) + 2 * 25} sub-steps")
 
 # %% [markdown]
@@ -141,8 +142,9 @@ for order in (2, 4):
             order=order, t_eval=at_steps(LONG_STEP))
     if any("too large" in str(w.message) for w in caught):
         flagged.append(f"order {order}")
-print(f"runs the step-size check flags (their local errors sum to more than 0.3 of the "
-      f"orbit over 10,000 orbits): {', '.join(flagged) or 'none'}")
+print(outputs.wrapped(
+    f"runs the step-size check flags (their local errors sum to more than 0.3 of the "
+    f"orbit over 10,000 orbits): {', '.join(flagged) or 'none'}"))
 per_step_4 = long_runs["spline, order 4"].nfev / (t_long / LONG_STEP)
 rk4_step = 4 * LONG_STEP / per_step_4
 long_runs["RK4, same work"] = splinestep.rk4(
@@ -164,12 +166,13 @@ growth = {m: g.set_index("orbit") for m, g in long_energy.groupby("method", sort
 for method, g in growth.items():
     tail = g[g.index >= 10]
     exponent = np.polyfit(np.log(tail.index), np.log(tail.energy_error), 1)[0]
-    print(f"{method:<16} {g.nfev.iloc[0] / LONG_ORBITS:6.0f} evaluations per "
-          f"orbit; energy error {outputs.plain(g.energy_error.iloc[0])} in the first orbit, "
-          f"{outputs.plain(g.energy_error.iloc[-1])} in orbit {LONG_ORBITS} (growth exponent "
-          f"{exponent:+.2f}); position error {outputs.plain(g.position_error.iloc[0])}, "
-          f"{outputs.plain(g.position_error.loc[100])} in orbit 100, "
-          f"{outputs.plain(g.position_error.iloc[-1])} in orbit {LONG_ORBITS}")
+    print(outputs.wrapped(
+        f"{method:<16} {g.nfev.iloc[0] / LONG_ORBITS:6.0f} evaluations per "
+        f"orbit; energy error {outputs.plain(g.energy_error.iloc[0])} in the first orbit, "
+        f"{outputs.plain(g.energy_error.iloc[-1])} in orbit {LONG_ORBITS} (growth exponent "
+        f"{exponent:+.2f}); position error {outputs.plain(g.position_error.iloc[0])}, "
+        f"{outputs.plain(g.position_error.loc[100])} in orbit 100, "
+        f"{outputs.plain(g.position_error.iloc[-1])} in orbit {LONG_ORBITS}"))
 
 # %%
 # The orbit from which RK4's energy error exceeds the composition's largest,
@@ -183,10 +186,11 @@ crossing_sampled = (diagnostics.loglog_interp(
     rk4_long.index[above[0] - 1:above[0] + 1], [level_4])[0] if above.size else np.nan)
 rk4_drift, rk4_start = np.polyfit(rk4_long.index - 1, rk4_long.energy_error, 1)
 crossing_fitted = 1 + (level_4 - rk4_start) / rk4_drift
-print(f"RK4, same work: energy error {rk4_start:.3e} + {rk4_drift:.3e} (orbit - 1); it "
-      f"exceeds the order-4 composition's largest ({outputs.plain(level_4, 3)}) from orbit "
-      f"{outputs.round_sig(crossing_sampled, 3):.0f} (sampled curve) or "
-      f"{outputs.round_sig(crossing_fitted, 3):.0f} (fitted line)")
+print(outputs.wrapped(
+    f"RK4, same work: energy error {rk4_start:.3e} + {rk4_drift:.3e} (orbit - 1); it "
+    f"exceeds the order-4 composition's largest ({outputs.plain(level_4, 3)}) from orbit "
+    f"{outputs.round_sig(crossing_sampled, 3):.0f} (sampled curve) or "
+    f"{outputs.round_sig(crossing_fitted, 3):.0f} (fitted line)"))
 position_ratio = (rk4_long.position_error / growth["spline, order 4"].position_error)
 
 # %%
@@ -254,11 +258,12 @@ bx.legend(loc="lower left", fontsize=outputs.MIN_FONT, ncol=3, handlelength=1.6,
 outputs.save_figure(fig, "composition")
 
 # %%
-print(f"energy level: order 2 / order 4 "
-      f"{growth['spline, order 2'].energy_error.max() / level_4:.0f}; RK4 / order 4 at orbit "
-      f"{LONG_ORBITS}: {rk4_long.energy_error.iloc[-1] / level_4:.1f}; position error, order 4 / "
-      f"RK4: {1 / position_ratio.iloc[0]:.0f} in the first orbit, "
-      f"{1 / position_ratio.loc[100]:.0f} in orbit 100")
+print(outputs.wrapped(
+    f"energy level: order 2 / order 4 "
+    f"{growth['spline, order 2'].energy_error.max() / level_4:.0f}; RK4 / order 4 at orbit "
+    f"{LONG_ORBITS}: {rk4_long.energy_error.iloc[-1] / level_4:.1f}; position error, order 4 / "
+    f"RK4: {1 / position_ratio.iloc[0]:.0f} in the first orbit, "
+    f"{1 / position_ratio.loc[100]:.0f} in orbit 100"))
 
 # %% [markdown]
 # The order-4 composition keeps the bounded energy error of the report's

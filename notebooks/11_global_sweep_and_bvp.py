@@ -52,21 +52,24 @@ for name, problem in global_cases.items():
                             max_difference=np.max(np.abs(whole.y - stepwise.y))))
 global_table = pd.DataFrame(global_rows)
 outputs.save_data(global_table, "global-sweep")
-print("evaluations of F and of the analytic Jacobian (finite-difference Jacobian columns are "
-      "evaluations of F), global / stepwise Newton:")
+print(outputs.wrapped(
+    "evaluations of F and of the analytic Jacobian (finite-difference Jacobian columns are "
+    "evaluations of F), global / stepwise Newton:"))
 for row in global_table.itertuples():
-    print(f"{row.problem:<20} {row.knots} knots, Jacobian {row.jacobian}: "
-          f"{row.newton_iterations} global Newton iterations; F {row.nfev} / {row.nfev_stepwise} "
-          f"= {row.nfev / row.nfev_stepwise:.2f}, Jacobian {row.njev} / {row.njev_stepwise}; "
-          f"largest difference from the stepwise solution {outputs.plain(row.max_difference, 1)}")
+    print(outputs.wrapped(
+        f"{row.problem:<20} {row.knots} knots, Jacobian {row.jacobian}: "
+        f"{row.newton_iterations} global Newton iterations; F {row.nfev} / {row.nfev_stepwise} "
+        f"= {row.nfev / row.nfev_stepwise:.2f}, Jacobian {row.njev} / {row.njev_stepwise}; "
+        f"largest difference from the stepwise solution {outputs.plain(row.max_difference, 1)}"))
 analytic = global_table[global_table.jacobian == "analytic"]
 differenced = global_table[global_table.jacobian != "analytic"]
 
 # %%
-print(f"global Newton iterations {global_table.newton_iterations.min()} to "
-      f"{global_table.newton_iterations.max()}; largest difference from the stepwise solutions "
-      f"{global_table.max_difference.max():.0e}; stepwise Newton's Jacobians beyond the checks: "
-      f"{analytic.njev_stepwise.max() - 4}")
+print(outputs.wrapped(
+    f"global Newton iterations {global_table.newton_iterations.min()} to "
+    f"{global_table.newton_iterations.max()}; largest difference from the stepwise solutions "
+    f"{global_table.max_difference.max():.0e}; stepwise Newton's Jacobians beyond the checks: "
+    f"{analytic.njev_stepwise.max() - 4}"))
 
 # %% [markdown]
 # The global solve gives the stepwise solution to $7 \times 10^{-13}$ in 2
@@ -135,13 +138,14 @@ per_node = np.concatenate([
     diagnostics.loglog_interp(g.points, g.error, g.scipy_points) / g.scipy_error
     for _, g in bvp_table.groupby("branch")])
 for b, g in bvp_table.groupby("branch"):
-    print(f"{b} branch: fitted order {bvp_orders[b]:.2f} (successive errors "
-          f"{bvp_successive[b].min():.2f} to {bvp_successive[b].max():.2f}); Newton iterations "
-          f"{g.newton_iterations.min()} to {g.newton_iterations.max()}; error at "
-          f"{g.points.max()} points {outputs.plain(g.error.iloc[-1])}.  scipy: status "
-          f"{', '.join(str(v) for v in sorted(set(g.scipy_status)))}, {g.scipy_points.min()} to "
-          f"{g.scipy_points.max()} nodes, errors {outputs.plain(g.scipy_error.min(), 1)} to "
-          f"{outputs.plain(g.scipy_error.max(), 1)}")
+    print(outputs.wrapped(
+        f"{b} branch: fitted order {bvp_orders[b]:.2f} (successive errors "
+        f"{bvp_successive[b].min():.2f} to {bvp_successive[b].max():.2f}); Newton iterations "
+        f"{g.newton_iterations.min()} to {g.newton_iterations.max()}; error at "
+        f"{g.points.max()} points {outputs.plain(g.error.iloc[-1])}.  scipy: status "
+        f"{', '.join(str(v) for v in sorted(set(g.scipy_status)))}, {g.scipy_points.min()} to "
+        f"{g.scipy_points.max()} nodes, errors {outputs.plain(g.scipy_error.min(), 1)} to "
+        f"{outputs.plain(g.scipy_error.max(), 1)}"))
 
 # %%
 default_limit = [scipy_solve_bvp(lambda s, u: np.vstack([u[1], -np.exp(u[0])]),
@@ -149,8 +153,9 @@ default_limit = [scipy_solve_bvp(lambda s, u: np.vstack([u[1], -np.exp(u[0])]),
                                  np.vstack([4.0 * np.sin(np.pi * x), 4.0 * np.pi * np.cos(np.pi * x)]),
                                  tol=1e-8).status
                  for x in (np.linspace(0.0, 1.0, n) for n in (11, 21, 41, 81, 161, 321))]
-print(f"scipy with its default max_nodes = 1000, upper branch from 11 to 321 points: status 1 "
-      f"(node limit) in {sum(v == 1 for v in default_limit)} of {len(default_limit)} runs")
+print(outputs.wrapped(
+    f"scipy with its default max_nodes = 1000, upper branch from 11 to 321 points: status 1 "
+    f"(node limit) in {sum(v == 1 for v in default_limit)} of {len(default_limit)} runs"))
 per_node_range = [float(f"{v:.0e}") for v in (np.nanmin(per_node), np.nanmax(per_node))]
 print(f"at the nodes scipy used, our error is {outputs.plain(per_node_range[0], 1)} to "
       f"{outputs.plain(per_node_range[1], 1)} times scipy's")
@@ -159,8 +164,9 @@ print(f"at the nodes scipy used, our error is {outputs.plain(per_node_range[0], 
 linear = splinestep.solve_bvp(lambda t, y, yp: y, np.linspace(0.0, 1.0, 101), 0.0, 1.0,
                               tol=np.inf)
 linear_error = np.max(np.abs(linear.y[0] - np.sinh(linear.t) / np.sinh(1.0)))
-print(f"y'' = y, y(0) = 0, y(1) = 1 on 101 points: {linear.niter} Newton iterations, error "
-      f"{outputs.plain(linear_error)} (exact sinh x / sinh 1)")
+print(outputs.wrapped(
+    f"y'' = y, y(0) = 0, y(1) = 1 on 101 points: {linear.niter} Newton iterations, error "
+    f"{outputs.plain(linear_error)} (exact sinh x / sinh 1)"))
 no_solution = splinestep.solve_bvp(fun, np.linspace(0.0, 1.0, 41), 0.0, 0.0, args=(4.0,))
 print(f"Bratu with lambda = 4 > {problems.boundary.LAMBDA_CRITICAL:.4f} (no solution): "
       f"status {no_solution.status}")
@@ -235,4 +241,4 @@ bvp_tolerance.assign(tol=bvp_tolerance.tol.map("{:.0e}".format),
 resonant = splinestep.solve_bvp(lambda x, y, yp: -y, np.linspace(0.0, np.pi, 11), 0.0, 1.0)
 print(f"y'' = -y, y(0) = 0, y(pi) = 1: status {resonant.status}, {resonant.t.size} mesh "
       f"points, max |y| = {outputs.plain(np.max(np.abs(resonant.y)), 1)}")
-print(resonant.message)
+print(outputs.wrapped(resonant.message))

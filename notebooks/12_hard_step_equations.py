@@ -60,9 +60,10 @@ for row in pleiades_table.itertuples():
     print(f"{row.run:<22} {row.iteration:<12} {outcome}")
 retry = splinestep.solve(lambda t, y, yp: -y, (0.0, 10.0), 1.0, 0.0, rtol=1e-6, atol=1e-8,
                          first_step=3.0)
-print(f"y'' = -y from a first step of 3 (omega h > sqrt 6): {retry.n_failed} failed step "
-      f"equation(s) retried smaller, status {retry.status}, error at t = 10 "
-      f"{outputs.plain(abs(retry.y[0, -1] - np.cos(10.0)))}")
+print(outputs.wrapped(
+    f"y'' = -y from a first step of 3 (omega h > sqrt 6): {retry.n_failed} failed step "
+    f"equation(s) retried smaller, status {retry.status}, error at t = 10 "
+    f"{outputs.plain(abs(retry.y[0, -1] - np.cos(10.0)))}"))
 
 # %%
 uniform = pleiades_table[pleiades_table.run.str.startswith("uniform")].copy()
@@ -70,10 +71,11 @@ uniform["h"] = uniform.run.str.split("= ").str[1].astype(float)
 failing = sorted(set(uniform[uniform.status != 0].h))
 reached = uniform[uniform.status == 0]
 adaptive_rows = pleiades_table[pleiades_table.run.str.startswith("adaptive")]
-print(f"uniform runs that reach t = 3: errors {reached.error.min():.2f} to "
-      f"{reached.error.max():.1f}, {int(reached.flagged.sum())} of {len(reached)} flagged; "
-      f"adaptive: {int(adaptive_rows.failed.sum())} failed step equations, errors "
-      f"{adaptive_rows.error.min():.1e} to {adaptive_rows.error.max():.1e}")
+print(outputs.wrapped(
+    f"uniform runs that reach t = 3: errors {reached.error.min():.2f} to "
+    f"{reached.error.max():.1f}, {int(reached.flagged.sum())} of {len(reached)} flagged; "
+    f"adaptive: {int(adaptive_rows.failed.sum())} failed step equations, errors "
+    f"{adaptive_rows.error.min():.1e} to {adaptive_rows.error.max():.1e}"))
 
 # %% [markdown]
 # The uniform steps fail at h = 0.0025, 0.005, 0.01, the sweep and Newton
@@ -104,9 +106,10 @@ print(f"uniform runs that reach t = 3: errors {reached.error.min():.2f} to "
 # evaluation of $F$ and counted as one).
 
 # %%
-print(f"rebuilt when an update is more than {step.SLOW_RATE} times the one before, or the "
-      f"step differs by more than {step.STEP_CHANGE:.0%} from the matrix's; "
-      f"m = {pleiades.y0.size} components")
+print(outputs.wrapped(
+    f"rebuilt when an update is more than {step.SLOW_RATE} times the one before, or the "
+    f"step differs by more than {step.STEP_CHANGE:.0%} from the matrix's; "
+    f"m = {pleiades.y0.size} components"))
 newton_rows = []
 for run_label, settings in (("uniform h = 0.0001", dict(h=1e-4)),
                             ("adaptive rtol = 1e-06", dict(h="adaptive", rtol=1e-6, atol=1e-6))):

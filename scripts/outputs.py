@@ -18,6 +18,7 @@ text when the image is shown at 85 % of its size.
 import math
 import os
 import re
+import textwrap
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -232,11 +233,20 @@ def round_sig(value, digits=2):
     return float(f"{value:.{digits - 1}e}")
 
 
-def say(text):
-    """Show ``text`` as Markdown: the sentences of a notebook that quote a
-    measured number are built in code from the computation, never typed."""
-    from IPython.display import Markdown, display
-    display(Markdown(text))
+def wrapped(text, width=100):
+    """``text`` as printed lines of at most ``width`` characters: a longer
+    line is broken first at its "; " (one clause a line), then at spaces,
+    continuation lines indented by two spaces.  JupyterLab would otherwise
+    break it wherever the pane ends."""
+    lines = []
+    for line in text.split("\n"):
+        clauses = line.split("; ") if len(line) > width else [line]
+        for k, clause in enumerate(clauses):
+            clause += ";" if k < len(clauses) - 1 else ""
+            lines += textwrap.wrap(clause, width, initial_indent="  " if k else "",
+                                   subsequent_indent="  ", break_long_words=False,
+                                   break_on_hyphens=False, drop_whitespace=True) or [""]
+    return "\n".join(lines)
 
 
 def span(pair, digits=2, decimals=None):

@@ -99,3 +99,4 @@ def test_figures_reproduce(fresh, committed):
 def test_readme_tables_are_the_data():
     text = (ROOT / "README.md").read_text()
     assert reproduce.readme_with_tables(text, ROOT / "data") == text
+

@@ -169,3 +169,4 @@ def test_a_planted_number_is_found(data_values):
     assert unexplained(cell + " The error reaches $4.67 \\times 10^{-3}$.", candidates) \
         == ["4.67 \\times 10^{-3}"]
     assert unexplained(cell + " The error reaches $4.1 \\times 10^{-3}$.", candidates) == []
+
