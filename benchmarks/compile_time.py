@@ -74,9 +74,9 @@ def compile_rows():
     with tempfile.TemporaryDirectory() as cache:
         first = measure(cache, 0)
         second = measure(cache, 1)
-    return [("first compiled fun type, every path, cache empty: two loops, without and with "
-             "jac (CPU s)", sum(first.values())),
-            ("a new compiled fun type, every path: two loops, without and with jac (CPU s)",
+    return [("first compiled fun type, every path (with and without jac), cache empty "
+             "(CPU s)", sum(first.values())),
+            ("a new compiled fun type, every path (with and without jac) (CPU s)",
              sum(second.values()))], first, second
 
 

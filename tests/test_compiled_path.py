@@ -9,7 +9,7 @@ import pytest
 from numba import njit
 
 import splinestep
-from splinestep import problems
+from splinestep import _compile, problems
 
 
 def assert_same(a, b):
@@ -68,7 +68,7 @@ def test_rk4_compiled_equals_plain(problem):
 
 MEMORY_SCRIPT = """
 import resource, numpy as np
-from splinestep import problems
+from splinestep import _compile, problems
 p = problems.cannonball(0.6)
 p.solve(h=0.01, t_eval=np.linspace(0, 1, 10))          # compile first
 before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
@@ -127,7 +127,6 @@ def test_loops_release_the_gil_and_threads_reproduce_sequential_runs():
     back) give bit for bit what the same solves give one after the other."""
     from concurrent.futures import ThreadPoolExecutor
 
-    from splinestep import _compile
 
     problem = problems.cannonball(0.6)
     plain_fun = problem.fun.py_func
@@ -148,3 +147,34 @@ def test_loops_release_the_gil_and_threads_reproduce_sequential_runs():
         assert np.array_equal(one.y, other.y) and np.array_equal(one.yp, other.yp)
     assert _compile._LOOPS and all(loop.targetoptions.get("nogil")
                                    for loop in _compile._LOOPS.values())
+
+
+@njit
+def _spring(t, y, yp, k, c):
+    return (-k * y[0] - c * yp[0], -k * y[1])
+
+
+@njit
+def _spring_jac(t, y, yp, k, c):
+    fy, fyp = np.zeros((2, 2)), np.zeros((2, 2))
+    fy[0, 0] = fy[1, 1] = -k
+    fyp[0, 0] = -c
+    return fy, fyp
+
+
+def test_runs_with_and_without_jac_share_one_compiled_loop():
+    """Without jac the loop gets a stand-in of a jac's type (two empty
+    matrices): a run with the jac compiles nothing more, calls it (njev),
+    and gives what finite differences give to their accuracy; without it
+    there is no jac call."""
+    args = (4.0, 0.3)
+    bare = splinestep.solve(_spring, (0.0, 5.0), [1.0, 0.5], [0.0, 1.0], 0.05, args=args,
+                            iteration="newton")
+    loops = set(_compile._LOOPS)
+    with_jac = splinestep.solve(_spring, (0.0, 5.0), [1.0, 0.5], [0.0, 1.0], 0.05, args=args,
+                                iteration="newton", jac=_spring_jac)
+    assert set(_compile._LOOPS) == loops
+    assert bare.success and with_jac.success
+    assert bare.njev == 0 and with_jac.njev > 0
+    assert bare.nfev > with_jac.nfev   # finite differences cost m evaluations a matrix
+    assert np.max(np.abs(bare.y - with_jac.y)) < 1e-10

@@ -304,7 +304,7 @@ def python_callbacks(fun, jac, args):
     if jac is not None:
         _JACS[key] = lambda t, y, yp: _matrices(key, t, jac(t, y, yp, *args), y.shape[0])
     try:
-        yield _python_fun, (None if jac is None else _python_jac), (key,)
+        yield _python_fun, (no_jacobian(1) if jac is None else _python_jac), (key,)
     finally:
         _FUNS.pop(key, None)
         _JACS.pop(key, None)
@@ -335,12 +335,40 @@ def _scalar_callback(f, args):
         _FUNS.pop(key, None)
 
 
+# Without a jac, the loop is given :func:`no_jacobian`'s function, which
+# returns two empty matrices and has the type a jac of the same arguments
+# returning two C-ordered matrices has: so the loop compiled for a ``fun``
+# serves its runs with and without such a jac, and a new type of ``fun``
+# compiles one loop, not two.  The Newton step sees the empty matrices and
+# takes finite differences (a given jac was checked at the start to return
+# two (m, m) matrices, m >= 1, so it never returns empty ones).
+_NO_JACOBIAN = {}
+_NO_JACOBIAN_SOURCE = """
+def no_jacobian(t, y, yp{params}):
+    empty = np.empty((0, 0))
+    return empty, empty
+"""
+
+
+def no_jacobian(n_args):
+    """The compiled stand-in for a missing ``jac`` taking ``n_args`` extra
+    arguments (one per arity, for the process; a few hundredths of a second
+    to compile for a new type of arguments)."""
+    if n_args not in _NO_JACOBIAN:
+        space = {"np": np}
+        params = "".join(f", a{k}" for k in range(n_args))
+        exec(_NO_JACOBIAN_SOURCE.format(params=params), space)
+        _NO_JACOBIAN[n_args] = njit(space["no_jacobian"])
+    return _NO_JACOBIAN[n_args]
+
+
 def loop_callables(path, fun, jac, args):
     """A context giving the ``(fun, jac, args)`` a step loop is called with:
-    those given on the compiled path, Python callbacks on the plain one."""
+    those given on the compiled path, Python callbacks on the plain one;
+    without a ``jac``, :func:`no_jacobian`'s stand-in."""
     if path == "plain":
         return python_callbacks(fun, jac, args)
-    return contextlib.nullcontext((fun, jac, args))
+    return contextlib.nullcontext((fun, no_jacobian(len(args)) if jac is None else jac, args))
 
 
 # Events.  The driver calls :func:`python_events` after each accepted step;

@@ -161,7 +161,22 @@ def _build_matrix(fun, args, jac, t_new, dt, s, work, lu, piv, info):
     z, y_new, yp_new = s.z, s.y_new, s.yp_new
     nfev = 0
     njev = 0
-    if jac is None:
+    finite_differences = True
+    if jac is not None:
+        for j in range(m):
+            y_new[j] = work[_BASE_Y, j] + wy * z[j]
+            yp_new[j] = work[_BASE_YP, j] + wyp * z[j]
+        fy, fyp = jac(t_new, y_new, yp_new, *args)
+        fy = np.asarray(fy)
+        fyp = np.asarray(fyp)
+        # two empty matrices: the stand-in for a missing jac (_compile.no_jacobian)
+        finite_differences = fy.shape[0] == 0
+        if not finite_differences:
+            njev += 1
+            for j in range(m):
+                for k in range(m):
+                    lu[j, k] = -(wy * fy[j, k] + wyp * fyp[j, k])
+    if finite_differences:
         for k in range(m):
             step = FD_STEP * max(1.0, abs(z[k]))
             saved = z[k]
@@ -174,17 +189,6 @@ def _build_matrix(fun, args, jac, t_new, dt, s, work, lu, piv, info):
             for j in range(m):
                 lu[j, k] = -(gk[j] - work[_G, j]) / step
         nfev += m
-    else:
-        for j in range(m):
-            y_new[j] = work[_BASE_Y, j] + wy * z[j]
-            yp_new[j] = work[_BASE_YP, j] + wyp * z[j]
-        fy, fyp = jac(t_new, y_new, yp_new, *args)
-        njev += 1
-        fy = np.asarray(fy)
-        fyp = np.asarray(fyp)
-        for j in range(m):
-            for k in range(m):
-                lu[j, k] = -(wy * fy[j, k] + wyp * fyp[j, k])
     for k in range(m):
         lu[k, k] += 1.0
     lu_factor(lu, piv)
