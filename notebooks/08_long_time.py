@@ -1,10 +1,11 @@
 # %% [markdown]
-# # The long-time picture: 10,000 orbits, the rigid body's drift, and equal work
+# # The long-time picture: 10,000 orbits of the ellipse, and equal work
 #
 # What the theory of notebook 06 predicts for long runs, measured: the
 # spline stepper conserves a modified energy on the Kepler problem (it is
-# Stormer-Verlet in other variables), not on the report's rigid body; and
-# at equal work against Verlet.
+# Stormer-Verlet in other variables), and its phase drifts; and at equal
+# work against Verlet.  Why the report's rigid body has no such bounded
+# energy error is in notebook 03.
 
 # %%
 import sys
@@ -12,7 +13,6 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pandas as pd
-import sympy as sp
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
@@ -21,7 +21,6 @@ import splinestep
 from splinestep import problems
 from splinestep.analysis import diagnostics
 from splinestep.analysis import long_time as long_time_analysis
-from splinestep.problems import euler_top
 
 plt = outputs.setup()
 ellipse = problems.cannonball(0.6)   # the report's ellipse, at its step h = 0.01
@@ -285,59 +284,6 @@ print(outputs.wrapped(
 # the body gains $5.7 \times 10^{-4}$ rad per orbit on average; over a
 # shorter window both means differ, and the two ways of measuring agree
 # only to $9 \times 10^{-3}$.
-
-# %% [markdown]
-# ## The rigid body: why its energy error drifts
-# In the report's second-order form, $\omega'' = f(\omega)$ with
-# $f_i = \alpha_i(\omega)\,\omega_i$.  Two things differ from the cannonball.
-# First, $f$ is not a gradient (its Jacobian is not symmetric, below), so
-# there is no potential, no Hamiltonian in $\omega$, and the conjugacy gives
-# no modified energy.  Second, the energy $E = \tfrac12\sum I_i\omega_i^2$ is
-# not an invariant of $\omega'' = f(\omega)$: it is conserved only on the
-# solutions with $\omega' = G(\omega)$ (Euler's equations).  Along any
-# solution, $dE/dt = \sum_i I_i\omega_i\omega'_i = \sum_i I_i \omega_i \delta_i$
-# with $\delta = \omega' - G(\omega)$, because $\sum_i I_i\omega_i G_i = 0$.
-# The numerical solution leaves $\delta = 0$ by the method's error, and
-# nothing brings it back.
-
-# %%
-w = sp.symbols("w1:4")
-moments = euler_top.MOMENTS
-G = euler_top.euler_rates(sp.Matrix(w), moments)
-print("sum I_i w_i G_i(w) =", sp.simplify(sum(moments[i] * w[i] * G[i] for i in range(3))))
-f_sym = sp.Matrix(euler_top.rigid_body_rhs.py_func(0, w, (0, 0, 0), *moments, 0.0))
-J = f_sym.jacobian(w)
-print("df1/dw2 - df2/dw1 =", sp.factor(J[0, 1] - J[1, 0]))
-body = problems.rigid_body("consistent")
-long_body = splinestep.solve(
-    body.fun, (0.0, 800.0), body.y0, body.yp0, body.h, args=body.args)
-delta = long_body.yp - euler_top.euler_rates(long_body.y, moments)
-inertia = np.asarray(moments)[:, None]
-E = euler_top.energy(moments)(long_body.y, long_body.yp)
-rate = np.sum(inertia * long_body.y * delta, axis=0)
-predicted = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(long_body.t))])
-mismatch = np.max(np.abs((E - E[0]) - predicted)) / np.max(np.abs(E - E[0]))
-delta_growth = diagnostics.growth_ratio(long_body.t, np.max(np.abs(delta), axis=0))
-mean_rate = np.mean(rate)
-fitted_drift = np.polyfit(long_body.t, E - E[0], 1)[0]
-print(f"|delta| growth ratio over eight parts of t in [0, 800]: {delta_growth:.1f}")
-print(f"mean of sum I w delta: {mean_rate:.2e}; fitted drift of E: {fitted_drift:.2e} per unit time")
-print(outputs.wrapped(
-    f"E - E0 against the trapezoidal integral of sum I w delta: mismatch "
-    f"~1e{np.log10(mismatch):.0f} of max |E - E0| (quadrature error)"))
-# %% [markdown]
-# Over $t \in [0, 800]$ the energy error equals the integral of
-# $\sum_i I_i\omega_i\delta_i$ to the trapezoidal rule's accuracy: that is
-# the identity above at work (it checks the bookkeeping, not a
-# prediction).  What it explains is measured separately: the deviation
-# $\delta$ itself stays bounded (growth ratio 1.0 over eight equal parts;
-# about 1 is bounded, 8 linear), but its component along $I\omega$ has a
-# nonzero mean, $6.2 \times 10^{-9}$ per unit time, and that is the
-# energy's fitted drift ($6.2 \times 10^{-9}$).  Nothing in
-# $\omega'' = f(\omega)$ pulls the solution back to the manifold
-# $\omega' = G(\omega)$ or makes that mean vanish; a method that stepped
-# Euler's first-order equations would keep $\delta = 0$.
-
 
 # %% [markdown]
 # ## At equal work: the spline or Verlet?
