@@ -42,7 +42,7 @@ for name, problem in cases.items():
 convergence = pd.DataFrame(rows)
 outputs.save_data(convergence, "convergence")
 
-
+# %%
 def fitted_slope(group):
     use = group[group.max_error > FLOOR]
     return np.polyfit(np.log(use.dt), np.log(use.max_error), 1)[0], len(use)
@@ -156,6 +156,7 @@ for method in ("RK45", "DOP853"):
 work = pd.DataFrame(work)
 outputs.save_data(work, "work-precision")
 
+# %%
 fig, ax = plt.subplots(figsize=(outputs.WIDTH, 5.0))
 METHODS = ("spline (converged)", "spline (1 sweep)", "Verlet", "RK4", "scipy RK45", "scipy DOP853")
 for method in METHODS:

@@ -99,6 +99,7 @@ for k in (5, 6):
         f"(largest spurious root {roots_table.set_index('degree').largest_spurious_root[k]:.4f})"))
 roots_table["measured_growth_per_step"] = [np.nan, np.nan] + growth
 
+# %%
 a0, a1, a2 = problems.acceleration_derivatives(ellipse.y0[:, None], ellipse.yp0[:, None], mu)
 orbit_errors = []
 for step in (0.04, 0.02, 0.01):
@@ -114,6 +115,7 @@ print(outputs.wrapped(
     + ", ".join(f"{e:.2e}" for e in orbit_errors) + f"; fitted order {quartic_slope:.2f}"))
 print(f"degree 4 started with y'''(0) = 0 instead of its value: error {wrong_start_error:.2e}")
 
+# %%
 damped = solve_degree(lambda t, y, yp: -y - damping * yp, (0.0, 60.0), 1.0, 0.0, 0.05, 4,
                       derivatives=[[0.5 * damping]])  # y''' = -y' - 0.5 y'' = 0.25 at t = 0
 w_d = np.sqrt(1 - damping ** 2 / 4)
