@@ -49,15 +49,15 @@ README_TABLES = {"claims": "claims", "errata": "errata"}
 
 def readme_frame(name, frame):
     """The columns of data/NAME.csv the README shows, in readable notation:
-    the claims one line each (where, claim, verdict, a link to the notebook
-    section that measures it; the measurements stay in the CSV), the errata
-    whole."""
+    the claims one line each (:func:`claims.glance`, with a link to the
+    notebook section that measures each; the measurements stay in the CSV),
+    the errata whole."""
+    import claims
     import outputs
     if name == "claims":
-        links = [f"[{n[:2]}: {s}](notebooks/{n}.ipynb)"
-                 for n, s in zip(frame.notebook, frame.section)]
-        frame = frame[["where", "claim", "kind"]].rename(columns={"kind": "verdict"})
-        frame = frame.assign(**{"measured in": links})
+        frame = claims.glance(frame)
+        frame["measured in"] = [f"[{n[:2]}: {s}](notebooks/{n}.ipynb)"
+                                for n, s in frame["measured in"]]
     return frame.map(lambda v: outputs.readable(str(v)))
 
 
@@ -301,28 +301,17 @@ def main(names=()):
     build_if_stale(state, "site", _site_sources(), lambda: "build/site/index.html: "
                    "{1} pages built in {0:.1f} s".format(*build_site.build()),
                    build_site.SITE)
-    claims = ROOT / "data" / "claims.csv"
+    claims_csv = ROOT / "data" / "claims.csv"
     print()
-    if claims.exists():
+    if claims_csv.exists():
+        import claims
         import pandas as pd
-        print(claims_summary(pd.read_csv(claims).kind))
+        print(claims.summary(pd.read_csv(claims_csv).kind))
     print("data: data/*.csv; figures: figures/*.png and .pdf; notebooks with outputs: "
           "notebooks/*.ipynb; the claims table: README.md and data/claims.csv; the paper: "
           "paper/splinestep.pdf; the website: build/site/index.html "
           f"({time.perf_counter() - total:.1f} s in all)")
     return 0
-
-
-# The kinds of verdict of data/claims.csv, in the order they are counted.
-VERDICTS = ("reproduced", "partly", "not reproduced", "built", "proved", "beyond the report")
-
-
-def claims_summary(kinds):
-    """One line: how many of the report's claims each kind of verdict has."""
-    kinds = list(kinds)
-    counts = ", ".join(f"{kinds.count(k)} {k}" for k in (*VERDICTS, *sorted(set(kinds) - set(VERDICTS)))
-                       if kinds.count(k))
-    return f"{len(kinds)} claims of the report and findings beyond it: {counts}"
 
 
 if __name__ == "__main__":
