@@ -154,9 +154,9 @@ def first_size(ctrl, atol, rtol, t0, y, yp):
 
 
 @njit(cache=True, inline="always")
-def propose(ctrl, t0, t, attempts, accepted, size, rho):
-    """The next knot after ``t`` (for given knots, the driver reads it from
-    them).  Returns (status, t_new, done): ``done``
+def propose(ctrl, knots, t0, t, attempts, accepted, size, rho):
+    """The next knot after ``t`` (given ``knots``: the next of them).
+    Returns (status, t_new, done): ``done``
     when the end is reached (no step to take), a status other than OK when
     the run must stop (max_steps, a step below rounding, rho not
     positive).  ``size`` is the error controller's next step size (positive),
@@ -167,6 +167,8 @@ def propose(ctrl, t0, t, attempts, accepted, size, rho):
     if ctrl.kind == CONSTANT:
         if accepted >= ctrl.n:
             return OK, t, True
+        if knots.shape[0] > 0:
+            return OK, knots[accepted + 1], False
         if accepted + 1 < ctrl.n:
             return OK, t0 + (accepted + 1) * ctrl.h, False
         return OK, tf, False
@@ -222,7 +224,7 @@ def step_factor(norm, after_reject):
 
 
 @njit(cache=True)
-def judge(ctrl, atol, rtol, status, dt, dt_prev, jerk_new, jerk, y, yp, y_new, yp_new,
+def judge(ctrl, vectors, status, dt, dt_prev, jerk_new, jerk, y, yp, y_new, yp_new,
           after_reject):
     """The error controller's verdict on a step of size ``dt`` (signed)
     that ended with ``status``: (accept, next size).  A step whose
@@ -231,8 +233,8 @@ def judge(ctrl, atol, rtol, status, dt, dt_prev, jerk_new, jerk, y, yp, y_new, y
     from the norm, within ``max_step``."""
     if status != OK:
         return False, abs(dt) * FAILED_FACTOR
-    norm = error_norm(dt, dt_prev, jerk_new, jerk, y, yp, y_new, yp_new, rtol, atol,
-                      ctrl.span)
+    norm = error_norm(dt, dt_prev, jerk_new, jerk, y, yp, y_new, yp_new, vectors.rtol,
+                      vectors.atol, ctrl.span)
     factor = step_factor(norm, after_reject)
     if not norm <= 1.0:
         return False, abs(dt) * min(factor, 1.0)
