@@ -7,6 +7,7 @@
 # and `make reproduce` copies them into the README.
 
 # %%
+import inspect
 import sys
 from html import escape
 
@@ -20,8 +21,11 @@ import outputs
 # Each claim is one function of `scripts/claims.py`: it reads what the
 # notebooks measured from `data/`, and returns where the report makes the
 # claim, what it says, what was measured, the verdict and the notebook
-# section that measures it.  Open the module to read how a verdict is
-# reached; `claims.CLAIMS` lists the functions in the table's order.
+# section that measures it.  `claims.CLAIMS` lists the functions in the
+# table's order; here is one of them, the report's central claim:
+
+# %%
+print(inspect.getsource(claims.second_order))
 
 # %%
 measured = claims.Measured()  # data/*.csv, each read once
