@@ -328,8 +328,11 @@ def command_rows():
                                   text=True)
             seconds = time.perf_counter() - start
             if done.returncode:
-                raise RuntimeError(f"make {target} failed in the clone:\n{done.stdout[-3000:]}"
-                                   f"\n{done.stderr[-3000:]}")
+                log = ROOT / "build" / f"bench-make-{target}.log"
+                log.parent.mkdir(exist_ok=True)
+                log.write_text(done.stdout + "\n" + done.stderr)
+                raise RuntimeError(f"make {target} failed in the clone (its whole output: "
+                                   f"{log}):\n{done.stdout[-3000:]}\n{done.stderr[-3000:]}")
             rows.append((label, seconds))
             for name, value in NOTEBOOK_LINE.findall(done.stdout):
                 notebooks.setdefault(name, []).append(float(value))
