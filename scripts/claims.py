@@ -552,7 +552,8 @@ def global_sweep(m):
         f"to {sci(runs.max_difference.max(), 1)} in "
         f"{runs.newton_iterations.min()} to {runs.newton_iterations.max()} "
         f"Newton iterations; analytic Jacobian: {ratio(analytic)} "
-        f"times the stepwise F evaluations and {', '.join(f'{j:,}' for j in analytic.njev)} "
+        f"times the stepwise F evaluations and "
+        f"{' and '.join(f'{j:,} ({p})' for j, p in zip(analytic.njev, analytic.problem))} "
         f"Jacobian evaluations against {analytic.njev_stepwise.max() - 4} for the stepwise "
         f"kept matrix ({analytic.njev_stepwise.max()} with the checks at t0 and of the "
         f"step size); finite-difference Jacobian: {ratio(fd)} times the stepwise F evaluations",

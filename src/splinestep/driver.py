@@ -276,12 +276,14 @@ def _start(ctrl, saving, t0, y0, yp0, ypp0):
     return vec, T, K, RHO, np.empty((3, saving.t_eval.shape[0], m)), acc
 
 
-@njit(cache=True)
+@register_jitable
 def _begin(fun, args, control, control_args, ctrl, t0, kind, vec, E, t_eval):
     """At the first knot, before the first step: the values at the requested
     times equal to t0, the third derivative there for the error
     controller's first step (one evaluation of F), the reversible control
-    variable's start.  Returns (status, nfev, n_eval, rho)."""
+    variable's start.  Returns (status, nfev, n_eval, rho).  Compiled
+    within the driver (its branches typed with the driver's own types); a
+    driver run as plain Python calls it as plain Python."""
     direction = 1.0 if ctrl.tf > t0 else -1.0
     status, nfev, rho = OK, 0, 0.0
     n_eval = _fill_eval(t_eval, 0, t0, t0, 0.0, kind, vec, E, direction)
