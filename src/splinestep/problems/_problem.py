@@ -5,6 +5,10 @@ from typing import Callable
 
 import numpy as np
 
+from ..rk4 import rk4
+from ..spline import solve
+from ..verlet import verlet
+
 # Tolerances of the scipy solve used where no exact solution exists.
 REFERENCE_RTOL = 1e-13
 REFERENCE_ATOL = 1e-14
@@ -67,7 +71,6 @@ class Problem:
         at step ``h`` (default: the report's step; "adaptive": the spline
         stepper's adaptive knots, with ``rtol`` and ``atol``); further
         keywords go to the solver."""
-        from .. import rk4, solve, verlet
         solvers = {"spline": solve, "rk4": rk4, "verlet": verlet}
         if method not in solvers:
             raise ValueError(f"method must be one of {tuple(solvers)}, got {method!r}")
