@@ -76,7 +76,8 @@ print(outputs.wrapped(
 # to 3 Newton iterations, each of which evaluates $F$ and its Jacobian at
 # every knot.  With an analytic Jacobian it spends 1.3 to 1.5 times the
 # stepwise evaluations of $F$ and one Jacobian per knot and iteration
-# (15,003, 802) where the stepwise Newton's kept matrix needs 1 per run
+# (15,004 and 803 with the check of the Jacobian at $t_0$) where the
+# stepwise Newton's kept matrix needs 1 per run
 # (its count, 5, includes the check of the Jacobian at $t_0$ and the three
 # of the step-size check); with a finite-difference Jacobian, whose columns
 # are evaluations of $F$, about 7.4 times the stepwise evaluations; and a

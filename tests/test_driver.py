@@ -151,6 +151,37 @@ def test_plain_fun_values_that_go_wrong_later_are_named():
     assert "singular" not in res.message
 
 
+def test_global_sweep_checks_every_value_and_counts_every_call():
+    """iteration="global": jac is checked at t0 as on every other path, and
+    a value of fun or jac that goes wrong inside the trajectory Newton (here
+    from the 41st call on, after the 11-knot guess sweep) is a failed run
+    that names it and where, with every call counted."""
+    two = lambda t, y, yp: np.array([-y[0] + 0.1 * y[1], -y[1]])
+    for jac in (lambda t, y, yp: (np.eye(1), np.eye(1)), lambda t, y, yp: np.eye(2),
+                lambda t, y, yp: (np.eye(2) * 1j, np.eye(2)), lambda t, y, yp: None):
+        with pytest.raises(ValueError, match="jac must return a pair"):
+            splinestep.solve(two, (0, 1), [1.0, 1.0], [0.0, 0.0], 0.1, iteration="global",
+                             jac=jac)
+    for bad, said in ((1e-3j, "fun returned complex values at t = 0.6"),
+                      (None, "fun returned None at t = 0.6")):
+        calls = []
+
+        def later(t, y, yp):
+            calls.append(t)
+            return -y if len(calls) <= 40 else (None if bad is None else -y + bad)
+        res = splinestep.solve(later, (0, 1), 1.0, 0.0, 0.1, iteration="global")
+        assert res.status == -1 and said in res.message and "Newton iteration 1" in res.message
+        assert res.nfev == len(calls) == 41
+    jac_calls = []
+
+    def jac_later(t, y, yp):
+        jac_calls.append(t)
+        return (-np.eye(1), np.zeros((1, 1))) if len(jac_calls) < 5 else (np.eye(2),) * 2
+    res = splinestep.solve(oscillator, (0, 1), 1.0, 0.0, 0.1, iteration="global", jac=jac_later)
+    assert res.status == -1 and "jac did not return two arrays of shape (1, 1)" in res.message
+    assert res.njev == len(jac_calls) == 5
+
+
 def test_max_steps_stops_every_variable_controller():
     for res in (splinestep.solve(oscillator, (0, 10), 1.0, 0.0, rtol=1e-10, max_steps=50),
                 splinestep.solve_reversible(oscillator, (0, 10), 1.0, 0.0, 0.01, zero_control,

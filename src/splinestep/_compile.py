@@ -251,11 +251,10 @@ def _python_jac(t, y, yp, key):
 _REASONS = {}
 
 
-def _vector(key, t, value, m):
-    """The value of a plain ``fun`` as a new float vector.  What no step can
-    use (None, complex or non-numeric values, the wrong shape) becomes an
-    empty vector, which the loop reports as the wrong shape, and its reason
-    is kept for the message (a scalar is the one component of m = 1)."""
+def fun_value_reason(value, t, m):
+    """None when ``value``, what a plain ``fun`` returned at t, is m real
+    numbers (a scalar is the one component of m = 1); otherwise why not, as
+    a run's message says it."""
     try:
         array = np.asarray(value)
     except (TypeError, ValueError):
@@ -263,29 +262,49 @@ def _vector(key, t, value, m):
     if value is None or array.dtype.kind not in "iufb":
         what = ("complex values" if array.dtype.kind == "c" else
                 "None" if value is None else f"a {type(value).__name__}")
-        _REASONS[key] = (f"fun returned {what} at t = {t:.10g} (it must return an array "
-                         f"of {m} real numbers)")
+        return (f"fun returned {what} at t = {t:.10g} (it must return an array "
+                f"of {m} real numbers)")
+    if np.atleast_1d(array).shape != (m,):
+        return (f"fun returned an array of shape {array.shape} at t = {t:.10g} (expected "
+                f"shape ({m},))")
+    return None
+
+
+def jac_value_reason(value, t, m):
+    """None when ``value``, what a plain ``jac`` returned at t, is two (m, m)
+    arrays of real numbers; otherwise why not."""
+    try:
+        parts = [np.asarray(part) for part in value]
+    except TypeError:
+        parts = []
+    if len(parts) != 2 or any(part.ndim > 2 or part.dtype.kind not in "iuf"
+                              or np.atleast_2d(part).shape != (m, m) for part in parts):
+        return (f"jac did not return two arrays of shape ({m}, {m}) of real numbers at "
+                f"t = {t:.10g}")
+    return None
+
+
+def _vector(key, t, value, m):
+    """The value of a plain ``fun`` as a new float vector.  What no step can
+    use (:func:`fun_value_reason`) becomes an empty vector, which the loop
+    reports as the wrong shape, and its reason is kept for the message."""
+    reason = fun_value_reason(value, t, m)
+    if reason is not None:
+        _REASONS[key] = reason
         return np.empty(0)
-    g = np.atleast_1d(array.astype(np.float64))
-    if g.shape != (m,):
-        _REASONS[key] = (f"fun returned an array of shape {array.shape} at t = {t:.10g} "
-                         f"(expected shape ({m},))")
-        return np.empty(0)
-    return g
+    return np.atleast_1d(np.asarray(value).astype(np.float64))
 
 
 def _matrices(key, t, value, m):
     """(dF/dy, dF/dyp) of a plain ``jac`` as new (m, m) float arrays; what
-    is not two such arrays becomes NaN, which the loop reports as a failed
-    Newton solve, and its reason is kept for the message."""
-    try:
-        parts = [np.array(part, dtype=np.float64, ndmin=2) for part in value]
-    except (TypeError, ValueError):
-        parts = []
-    if len(parts) != 2 or any(part.shape != (m, m) for part in parts):
-        _REASONS[key] = f"jac did not return two arrays of shape ({m}, {m}) at t = {t:.10g}"
+    is not two such arrays (:func:`jac_value_reason`) becomes NaN, which the
+    loop reports as a failed Newton solve, and its reason is kept for the
+    message."""
+    reason = jac_value_reason(value, t, m)
+    if reason is not None:
+        _REASONS[key] = reason
         return np.full((m, m), np.nan), np.full((m, m), np.nan)
-    return parts[0], parts[1]
+    return tuple(np.array(part, dtype=np.float64, ndmin=2) for part in value)
 
 
 def reason(loop_args):

@@ -29,27 +29,54 @@ References
 
 import numpy as np
 
-from . import _base
+from . import _base, _compile
 from ._base import FD_STEP
 from .result import SplineSolution, new_result
 from .step import YP_START, YP_WEIGHT, Y_START, Y_WEIGHT, relations
 
 
-def _evaluate(fun, jac, args, t, Y, YP):
-    """F, dF/dy and dF/dy' at every knot (arrays (n+1, m), (n+1, m, m) x 2),
-    and the number of evaluations of F and of jac."""
+class BadValue(ValueError):
+    """A value of ``fun`` or ``jac`` that no Newton iteration can use; its
+    text is the reason, as a run's message says it."""
+
+
+def _value(fun, t, y, yp, args, m):
+    """``fun(t, y, yp, *args)`` as m floats, or :class:`BadValue`."""
+    value = fun(t, y, yp, *args)
+    reason = _compile.fun_value_reason(value, t, m)
+    if reason is not None:
+        raise BadValue(reason)
+    return np.asarray(value, dtype=float).reshape(m)
+
+
+def _jacobian(jac, t, y, yp, args, m):
+    """``jac(t, y, yp, *args)`` as two (m, m) float arrays, or
+    :class:`BadValue` (also when jac raises: the message names jac)."""
+    try:
+        value = jac(t, y, yp, *args)
+    except Exception as error:
+        raise BadValue(f"jac raised {type(error).__name__} at t = {t:.10g}: {error}") from error
+    reason = _compile.jac_value_reason(value, t, m)
+    if reason is not None:
+        raise BadValue(reason)
+    return [np.asarray(part, dtype=float).reshape(m, m) for part in value]
+
+
+def _evaluate(fun, jac, args, t, Y, YP, calls):
+    """F, dF/dy and dF/dy' at every knot (arrays (n+1, m), (n+1, m, m) x 2);
+    ``calls`` (a list [nfev, njev]) counts every call of fun and jac as it
+    is made, also when a value no iteration can use raises
+    :class:`BadValue`."""
     k, m = Y.shape
     F = np.empty((k, m))
     Fy = np.empty((k, m, m))
     Fyp = np.empty((k, m, m))
-    nfev = njev = 0
     for i in range(k):
-        F[i] = np.asarray(fun(t[i], Y[i], YP[i], *args), dtype=float).reshape(m)
-        nfev += 1
+        calls[0] += 1
+        F[i] = _value(fun, t[i], Y[i], YP[i], args, m)
         if jac is not None:
-            a, b = jac(t[i], Y[i], YP[i], *args)
-            Fy[i], Fyp[i] = a, b
-            njev += 1
+            calls[1] += 1
+            Fy[i], Fyp[i] = _jacobian(jac, t[i], Y[i], YP[i], args, m)
             continue
         for j in range(m):
             for target, part in ((Y, Fy), (YP, Fyp)):
@@ -57,10 +84,9 @@ def _evaluate(fun, jac, args, t, Y, YP):
                 step = FD_STEP * max(1.0, abs(point[j]))
                 point[j] += step
                 y_i, yp_i = (point, YP[i]) if target is Y else (Y[i], point)
-                part[i, :, j] = (np.asarray(fun(t[i], y_i, yp_i, *args), dtype=float)
-                                 .reshape(m) - F[i]) / step
-                nfev += 1
-    return F, Fy, Fyp, nfev, njev
+                calls[0] += 1
+                part[i, :, j] = (_value(fun, t[i], y_i, yp_i, args, m) - F[i]) / step
+    return F, Fy, Fyp
 
 
 def _system(t, U, F, Fy, Fyp, boundary):
@@ -159,34 +185,33 @@ def newton(fun, jac, args, t, U, boundary, tol, max_iter):
 
     Returns (status, message, niter, nfev, njev): status 0 converged, -1
     not (the message says why)."""
-    nfev = njev = 0
+    calls = [0, 0]
     for it in range(1, max_iter + 1):
         try:
-            F, Fy, Fyp, fe, je = _evaluate(fun, jac, args, t, U[:, 0], U[:, 1])
+            F, Fy, Fyp = _evaluate(fun, jac, args, t, U[:, 0], U[:, 1], calls)
+        except BadValue as error:
+            return -1, f"Newton iteration {it}: {error}", it - 1, *calls
         except (ArithmeticError, ValueError) as error:
-            return -1, (f"Newton iteration {it}: the right-hand side raised "
-                        f"{type(error).__name__} at the current iterate: {error}"), it - 1, \
-                nfev, njev
-        nfev += fe
-        njev += je
+            return -1, (f"Newton iteration {it}: fun raised {type(error).__name__} at the "
+                        f"current iterate: {error}"), it - 1, *calls
         if not (np.all(np.isfinite(F)) and np.all(np.isfinite(Fy))
                 and np.all(np.isfinite(Fyp))):
             return -1, (f"Newton iteration {it}: the right-hand side or its Jacobian is not "
-                        "finite at the current iterate"), it - 1, nfev, njev
+                        "finite at the current iterate"), it - 1, *calls
         residual, matrix = _system(t, U, F, Fy, Fyp, boundary)
         try:
             from scipy.sparse.linalg import splu
             delta = splu(matrix, permc_spec="NATURAL").solve(-residual)
         except RuntimeError as error:  # SuperLU: "Factor is exactly singular"
             return -1, f"Newton iteration {it}: the Jacobian is singular ({error})", it, \
-                nfev, njev
+                *calls
         if not np.all(np.isfinite(delta)):
-            return -1, f"Newton iteration {it}: the update is not finite", it, nfev, njev
+            return -1, f"Newton iteration {it}: the update is not finite", it, *calls
         U += delta.reshape(U.shape)
         if np.max(np.abs(delta)) <= tol * max(1.0, np.max(np.abs(U))):
-            return 0, "Newton's method converged on the whole trajectory.", it, nfev, njev
+            return 0, "Newton's method converged on the whole trajectory.", it, *calls
     return -1, (f"Newton's method on the whole trajectory did not converge in {max_iter} "
-                "iterations; try a better y_guess or a finer mesh."), max_iter, nfev, njev
+                "iterations; try a better y_guess or a finer mesh."), max_iter, *calls
 
 
 # Newton's method on a mesh stops when its update is at most this times

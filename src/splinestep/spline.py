@@ -372,12 +372,14 @@ def _solve_global(fun, t0, tf, y0, yp0, h, n, knots, t_eval, args, opts, dense_o
     if knots.size == 0:
         knots = t0 + h * np.arange(n + 1)
         knots[-1] = tf
+    jac = opts["jac"]
+    if jac is not None:
+        _base.check_jac(jac, t0, y0, yp0, args)
     guess = solve(fun, (t0, tf), y0, yp0, knots=knots, args=args, iterations=1)
     if not guess.success:
         return guess
     U = np.stack([guess.y.T, guess.yp.T, guess.ypp.T], axis=1)
     status, message, niter, nfev, njev = bvp.newton(
-        fun, opts["jac"], args, knots, U, [(0, 0, y0), (0, 1, yp0)], opts["tol"],
-        opts["max_iter"])
-    return bvp.result(knots, U, status, message, niter, nfev + guess.nfev, njev, t_eval,
-                      dense_output)
+        fun, jac, args, knots, U, [(0, 0, y0), (0, 1, yp0)], opts["tol"], opts["max_iter"])
+    return bvp.result(knots, U, status, message, niter, nfev + guess.nfev,
+                      njev + int(jac is not None), t_eval, dense_output)
