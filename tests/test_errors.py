@@ -131,3 +131,62 @@ def test_nonconvergence_names_step_and_time():
     assert "did not converge in 30 iterations" in res.message
     assert "smaller h" in res.message and 'iteration="newton"' in res.message
     assert res.nstep == 0 and res.t.tolist() == [0.0]
+
+
+@pytest.mark.parametrize("call", [
+    lambda: splinestep.solve(f, (False, True), 1.0, 0.0, 0.1),
+    lambda: splinestep.rk4(f, (0, np.True_), 1.0, 0.0, 0.1),
+    lambda: splinestep.solve(f, (0, 1), 1.0, 0.0, 0.1, order=4.0),
+], ids=["t_span", "t_span rk4", "order"])
+def test_booleans_and_floats_are_not_counts_or_times(call):
+    with pytest.raises(ValueError, match="t_span must be a pair of numbers|order must be one"):
+        call()
+
+
+def test_compiled_fun_that_may_return_none_is_refused_at_the_start():
+    @njit
+    def sometimes_none(t, y, yp):
+        if t > 0.55:
+            return None
+        return -y
+    for solver in (splinestep.solve, splinestep.rk4):
+        with pytest.raises(ValueError, match="fun is compiled with a value that may be None"):
+            solver(sometimes_none, (0, 1), 1.0, 0.0, 0.1)
+
+
+def forcing(t, y, yp, on):
+    return -y + on
+
+
+def test_a_jump_of_f_ends_an_adaptive_run_with_the_remedy_that_works():
+    """y'' = -y + H(t - 1/2), y(0) = 1, y'(0) = 0: the error-controlled run
+    stops at the jump and says what to do; done so (two runs, each with F
+    on its side of the jump), y(1) agrees with the exact
+    1 + (cos 1/2 - 1) cos 1/2 - sin^2 1/2 within the tolerance."""
+    jumps = lambda t, y, yp: -y + (1.0 if t > 0.5 else 0.0)
+    res = splinestep.solve(jumps, (0, 1), 1.0, 0.0, rtol=1e-6)
+    assert res.status == -1 and "at t = 0.5" in res.message
+    assert "end t_span at the jump" in res.message
+    before = splinestep.solve(forcing, (0, 0.5), 1.0, 0.0, rtol=1e-6, args=(0.0,))
+    after = splinestep.solve(forcing, (0.5, 1.0), before.y[:, -1], before.yp[:, -1],
+                             rtol=1e-6, args=(1.0,))
+    exact = 1 + (np.cos(0.5) - 1) * np.cos(0.5) - np.sin(0.5) ** 2
+    assert before.success and after.success
+    assert abs(after.y[0, -1] - exact) < 1e-6
+
+
+def test_global_sweep_reports_its_solution_not_its_guess():
+    """iteration="global" does not pass on the guess's step-size warning
+    (one sweep per step on y'' = -100 y - 20 y' at h = 0.05 is off; the
+    solution, the stepwise Newton's, is not), and a Newton iteration that
+    fails returns the initial state only, with a hint that applies."""
+    damped = lambda t, y, yp: -100 * y - 20 * yp
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        whole = splinestep.solve(damped, (0, 1), 1.0, 0.0, 0.05, iteration="global")
+        stepwise = splinestep.solve(damped, (0, 1), 1.0, 0.0, 0.05, iteration="newton")
+    assert np.max(np.abs(whole.y - stepwise.y)) < 1e-12
+    res = splinestep.solve(lambda t, y, yp: -100 * y ** 3, (0, 1), 1.0, 0.0, 0.5,
+                           iteration="global", dense_output=True)
+    assert res.status == -1 and "try a smaller h" in res.message and "y_guess" not in res.message
+    assert res.t.tolist() == [0.0] and res.y.tolist() == [[1.0]] and res.sol is None

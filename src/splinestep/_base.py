@@ -132,9 +132,13 @@ def check_span(t_span, backward=False):
     """Return (t0, tf) as finite floats with t0 < tf, or t0 != tf when
     ``backward`` integration is allowed."""
     try:
-        t0, tf = (float(v) for v in t_span)
+        pair = tuple(t_span)
+        t0, tf = (float(v) for v in pair)
     except (TypeError, ValueError):
         raise ValueError("t_span must be a pair of numbers (t0, tf)") from None
+    if any(isinstance(v, (bool, np.bool_)) for v in pair):
+        raise ValueError(f"t_span must be a pair of numbers (t0, tf), got {pair!r} "
+                         "(booleans are not numbers)")
     if not (np.isfinite(t0) and np.isfinite(tf)):
         raise ValueError(f"t_span must be finite, got ({t0}, {tf})")
     if backward and tf == t0:
@@ -320,6 +324,10 @@ def check_fun(fun, t0, y0, yp0, args):
     A scalar is accepted when m = 1.  Returns the value as an array."""
     m = y0.shape[0]
     value = _call_at_start("fun", fun, t0, y0, yp0, args)
+    if is_compiled(fun) and any(isinstance(sig.return_type, types.Optional)
+                                for sig in fun.nopython_signatures):
+        raise ValueError("fun is compiled with a value that may be None (numba types it as "
+                         "optional); a compiled fun must return its values on every branch")
     try:
         array = np.asarray(value)
     except (TypeError, ValueError):

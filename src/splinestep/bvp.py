@@ -178,10 +178,12 @@ def _system(t, U, F, Fy, Fyp, boundary):
     return residual, matrix
 
 
-def newton(fun, jac, args, t, U, boundary, tol, max_iter):
+def newton(fun, jac, args, t, U, boundary, tol, max_iter,
+           hint="try a better y_guess or a finer mesh"):
     """Newton's method on the whole trajectory from the guess ``U``
     ((n+1, 3, m), overwritten).  Converged when the largest update is at
-    most ``tol`` times max(1, the largest |value|).
+    most ``tol`` times max(1, the largest |value|); ``hint`` ends the
+    message of a run that does not converge.
 
     Returns (status, message, niter, nfev, njev): status 0 converged, -1
     not (the message says why)."""
@@ -211,7 +213,7 @@ def newton(fun, jac, args, t, U, boundary, tol, max_iter):
         if np.max(np.abs(delta)) <= tol * max(1.0, np.max(np.abs(U))):
             return 0, "Newton's method converged on the whole trajectory.", it, *calls
     return -1, (f"Newton's method on the whole trajectory did not converge in {max_iter} "
-                "iterations; try a better y_guess or a finer mesh."), max_iter, *calls
+                f"iterations; {hint}."), max_iter, *calls
 
 
 # Newton's method on a mesh stops when its update is at most this times
@@ -404,9 +406,10 @@ def solve_bvp(fun, x, ya=None, yb=None, *, bc=None, y_guess=None, tol=1e-6, max_
 def result(t, U, status, message, niter, nfev, njev, t_eval=None, dense_output=True,
            error_estimate=np.nan):
     """The :class:`OdeResult` of a whole-trajectory solve on the knots ``t``
-    (the same keys as every solver's; no local error estimate)."""
+    (the same keys as every solver's; no local error estimate); on one
+    knot alone (a failed run), no dense output and no t_eval."""
     T, Y, YP, Z = t, U[:, 0], U[:, 1], U[:, 2]
-    sol = SplineSolution(T, Y, YP, Z)
+    sol = SplineSolution(T, Y, YP, Z) if T.size > 1 else None
     if t_eval is not None:
         t_out, y, yp, ypp = t_eval, sol(t_eval), sol(t_eval, 1), sol(t_eval, 2)
     else:

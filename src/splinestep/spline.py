@@ -157,7 +157,9 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         error, and a second one confirms it, so a converged step costs 2
         iterations.  "global" solves the equations of all knots together by
         Newton's method with a sparse LU (:mod:`splinestep.bvp`), starting
-        from one sweep per step; it gives the stepwise solution.
+        from one sweep per step; it gives the stepwise solution, without
+        the step-size check (``local_error`` is NaN, nothing warns), and a
+        run whose Newton iteration fails returns its initial state only.
     iterations : int, optional
         Exactly this many iterations per step, with no convergence test
         (the report's "a few times").  By default iterate until converged.
@@ -227,7 +229,7 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     UserWarning
         When the run's own error estimate says that the step is far too
         large for the solution (see :mod:`splinestep.check`); the message
-        then says so too.
+        then says so too.  Every path but ``iteration="global"``.
 
     References
     ----------
@@ -296,7 +298,7 @@ def _check_choices(opts, order, adaptive, events):
     iteration = opts["iteration"]
     if iteration not in ITERATIONS:
         raise ValueError(f"iteration must be one of {ITERATIONS}, got {iteration!r}")
-    if order not in COMPOSITIONS:
+    if not _base.is_integer(order) or order not in COMPOSITIONS:
         raise ValueError(f"order must be one of {tuple(COMPOSITIONS)}, got {order!r}")
     if not isinstance(opts["reuse_jacobian"], (bool, np.bool_)):
         raise ValueError(f"reuse_jacobian must be True or False, got "
@@ -368,18 +370,28 @@ def _solve_global(fun, t0, tf, y0, yp0, h, n, knots, t_eval, args, opts, dense_o
     """``solve(..., iteration="global")``: the initial value problem on the
     given knots, solved by :func:`splinestep.bvp.newton` on the whole
     trajectory from the guess of one fixed-point sweep per step (the
-    stepper's cheapest pass)."""
+    stepper's cheapest pass).  The guess's step-size check is not
+    reported: it would judge the guess, not the solution.  A run whose
+    Newton iteration fails returns its first knot only (no step of the
+    solution is completed before the whole trajectory is)."""
     if knots.size == 0:
         knots = t0 + h * np.arange(n + 1)
         knots[-1] = tf
     jac = opts["jac"]
     if jac is not None:
         _base.check_jac(jac, t0, y0, yp0, args)
-    guess = solve(fun, (t0, tf), y0, yp0, knots=knots, args=args, iterations=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        guess = solve(fun, (t0, tf), y0, yp0, knots=knots, args=args, iterations=1)
     if not guess.success:
         return guess
     U = np.stack([guess.y.T, guess.yp.T, guess.ypp.T], axis=1)
+    start = U[:1].copy()    # Newton moves the iterate's first knot too
     status, message, niter, nfev, njev = bvp.newton(
-        fun, jac, args, knots, U, [(0, 0, y0), (0, 1, yp0)], opts["tol"], opts["max_iter"])
-    return bvp.result(knots, U, status, message, niter, nfev + guess.nfev,
-                      njev + int(jac is not None), t_eval, dense_output)
+        fun, jac, args, knots, U, [(0, 0, y0), (0, 1, yp0)], opts["tol"], opts["max_iter"],
+        hint="try a smaller h, or iteration='newton'")
+    counts = (niter, nfev + guess.nfev, njev + int(jac is not None))
+    if status != 0:
+        return bvp.result(knots[:1], start, status, message + " Returning the initial state.",
+                          *counts, dense_output=False)
+    return bvp.result(knots, U, status, message, *counts, t_eval, dense_output)

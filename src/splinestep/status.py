@@ -89,7 +89,10 @@ def message(run, max_iter, m, max_steps, reason=None):
                 f"returned a value that is not finite. {accepted}")
     if code == STEP_TOO_SMALL:
         last = run.last_status
-        why = ("its error estimate was too large" if last == OK else
+        why = ("its error estimate was too large (if F jumps there, as a forcing switched "
+               "on does, the spline, whose y'' is continuous, cannot follow it: end t_span at "
+               "the jump and start a new run from the state there, each run with F's values on "
+               "its side of the jump)" if last == OK else
                f"its equation could not be solved ({failure(last, max_iter, m, reason)})")
         return (f"The step size fell below the rounding floor at t = {short(run.t_last)}: the "
                 f"last step tried was rejected because {why}. {accepted}")
