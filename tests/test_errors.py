@@ -190,3 +190,59 @@ def test_global_sweep_reports_its_solution_not_its_guess():
                            iteration="global", dense_output=True)
     assert res.status == -1 and "try a smaller h" in res.message and "y_guess" not in res.message
     assert res.t.tolist() == [0.0] and res.y.tolist() == [[1.0]] and res.sol is None
+
+
+def test_global_sweep_whose_starting_sweep_fails_keeps_nothing_of_it():
+    """y'' = -100 y' - y at h = 0.1: one explicit sweep per step overflows
+    by t = 27 where the method itself (stepwise Newton) decays; the global
+    run returns its initial state, not the overflowing guess."""
+    stiff = lambda t, y, yp: -100.0 * yp - y
+    jac = lambda t, y, yp: (-np.eye(1), -100.0 * np.eye(1))
+    with pytest.warns(UserWarning, match="The step is too large"):   # its first steps
+        newton = splinestep.solve(stiff, (0, 50), 1.0, 0.0, 0.1, iteration="newton", jac=jac)
+    assert newton.success and 0 < newton.y[0, -1] < 1
+    with np.errstate(over="ignore", invalid="ignore"):   # the guess overflows
+        res = splinestep.solve(stiff, (0, 50), 1.0, 0.0, 0.1, iteration="global", jac=jac,
+                               t_eval=[1.0, 2.0], dense_output=True)
+    assert res.status == -1 and "The starting sweep" in res.message
+    assert res.t.tolist() == [0.0] and res.y.tolist() == [[1.0]] and res.sol is None
+
+
+@pytest.mark.parametrize("bad", ["fun", "jac"])
+def test_global_and_bvp_name_where_a_value_is_not_finite(bad):
+    def fun(t, y, yp):
+        return -y if bad == "jac" or t <= 0.5 else np.full_like(y, np.nan)
+
+    def jac(t, y, yp):
+        return (-np.eye(1) if bad == "fun" or t <= 0.5 else np.full((1, 1), np.nan),
+                np.zeros((1, 1)))
+    res = splinestep.solve(fun, (0, 2), 1.0, 0.0, 0.1, iteration="global", jac=jac)
+    said = "not finite at t = 0.6 (the first such knot)"
+    if bad == "fun":   # the starting sweep meets it first
+        assert res.status == -1 and "not finite" in res.message and "t = 0.6" in res.message
+    else:
+        assert res.status == -1 and f"jac is {said}" in res.message
+    bvp = splinestep.solve_bvp(fun, np.linspace(0, 2, 11), 1.0, 0.0, jac=jac)
+    assert bvp.status == -1 and f"{bad} is {said}" in bvp.message
+
+
+def test_reversible_run_merges_a_rounding_sliver_at_the_end():
+    """Ten constant steps of 0.1 end at 1 - 1.1e-16: the tenth ends at tf,
+    as on every other controller, and max_steps = 10 suffices."""
+    zero = lambda t, y, yp: 0.0
+    res = splinestep.solve_reversible(f, (0, 1), 1.0, 0.0, 0.1, zero, max_steps=10)
+    assert res.success and res.nstep == 10 and res.t[-1] == 1.0
+    assert np.min(np.diff(res.t)) > 0.09
+
+
+def test_global_sweep_takes_an_empty_event_list_as_no_events():
+    res = splinestep.solve(f, (0, 1), 1.0, 0.0, 0.1, iteration="global", events=[])
+    assert res.success and res.t_events is None
+
+
+def test_compiled_fun_returning_a_mixed_tuple_is_refused_at_the_start():
+    @njit
+    def mixed(t, y, yp):
+        return (-y[0], 0)
+    with pytest.raises(ValueError, match="a tuple of mixed types"):
+        splinestep.solve(mixed, (0, 1), [1.0, 0.0], [0.0, 1.0], 0.1)

@@ -324,10 +324,14 @@ def check_fun(fun, t0, y0, yp0, args):
     A scalar is accepted when m = 1.  Returns the value as an array."""
     m = y0.shape[0]
     value = _call_at_start("fun", fun, t0, y0, yp0, args)
-    if is_compiled(fun) and any(isinstance(sig.return_type, types.Optional)
-                                for sig in fun.nopython_signatures):
+    returns = [sig.return_type for sig in fun.nopython_signatures] if is_compiled(fun) else []
+    if any(isinstance(r, types.Optional) for r in returns):
         raise ValueError("fun is compiled with a value that may be None (numba types it as "
                          "optional); a compiled fun must return its values on every branch")
+    mixed = [r for r in returns if isinstance(r, types.Tuple) and not isinstance(r, types.UniTuple)]
+    if mixed:
+        raise ValueError(f"fun is compiled with a value of type {mixed[0]}, a tuple of mixed "
+                         "types; a compiled fun returns a tuple of floats (write 0.0, not 0)")
     try:
         array = np.asarray(value)
     except (TypeError, ValueError):

@@ -196,10 +196,14 @@ def newton(fun, jac, args, t, U, boundary, tol, max_iter,
         except (ArithmeticError, ValueError) as error:
             return -1, (f"Newton iteration {it}: fun raised {type(error).__name__} at the "
                         f"current iterate: {error}"), it - 1, *calls
-        if not (np.all(np.isfinite(F)) and np.all(np.isfinite(Fy))
-                and np.all(np.isfinite(Fyp))):
-            return -1, (f"Newton iteration {it}: the right-hand side or its Jacobian is not "
-                        "finite at the current iterate"), it - 1, *calls
+        bad_f = ~np.all(np.isfinite(F), axis=1)
+        bad_j = ~(np.all(np.isfinite(Fy), axis=(1, 2)) & np.all(np.isfinite(Fyp), axis=(1, 2)))
+        if bad_f.any() or bad_j.any():
+            where = np.flatnonzero(bad_f | bad_j)[0]
+            what = ("fun" if bad_f[where] else "jac" if jac is not None
+                    else "the finite-difference Jacobian")
+            return -1, (f"Newton iteration {it}: {what} is not finite at t = {t[where]:.10g} "
+                        f"(the first such knot); {hint}."), it - 1, *calls
         residual, matrix = _system(t, U, F, Fy, Fyp, boundary)
         try:
             from scipy.sparse.linalg import splu

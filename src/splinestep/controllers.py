@@ -177,12 +177,15 @@ def propose(ctrl, knots, t0, t, attempts, accepted, size, rho):
     if attempts >= ctrl.max_steps:
         return TOO_MANY_STEPS, t, False
     remaining = abs(tf - t)
+    min_step = 16.0 * np.finfo(np.float64).eps * max(abs(t), abs(tf - t0))
     if ctrl.kind == REVERSIBLE:
         if not 0.0 < rho < np.inf:
             return RHO_NOT_POSITIVE, t, False
         dt = ctrl.eps / rho
-        return OK, (tf if dt >= remaining else t + direction * dt), False
-    min_step = 16.0 * np.finfo(np.float64).eps * max(abs(t), abs(tf - t0))
+        # A remainder below the rounding floor joins this step, as on the
+        # error controller (ten steps of 0.1 end at 1 - 1.1e-16).
+        end = dt >= remaining or remaining - dt < min_step
+        return OK, (tf if end else t + direction * dt), False
     if size < min_step:
         return STEP_TOO_SMALL, t, False
     if size >= remaining or remaining - size < min_step:

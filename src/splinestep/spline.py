@@ -153,13 +153,15 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         I - h^2/6 dF/dy - h/2 dF/dy' (exact ``jac``, or finite differences
         at m evaluations of F), the matrix kept across iterations and steps
         and rebuilt when convergence slows (``reuse_jacobian``).  On a linear
-        problem its first iteration solves the step equation to rounding
-        error, and a second one confirms it, so a converged step costs 2
-        iterations.  "global" solves the equations of all knots together by
-        Newton's method with a sparse LU (:mod:`splinestep.bvp`), starting
-        from one sweep per step; it gives the stepwise solution, without
-        the step-size check (``local_error`` is NaN, nothing warns), and a
-        run whose Newton iteration fails returns its initial state only.
+        problem, with an exact ``jac``, its first iteration solves the step
+        equation to rounding error, and a second one confirms it, so a
+        converged step costs 2 iterations (3 with the finite-difference
+        Jacobian, which is off by about sqrt(eps)).  "global" solves the
+        equations of all knots together by Newton's method with a sparse LU
+        (:mod:`splinestep.bvp`), starting from one sweep per step; it gives
+        the stepwise solution, without the step-size check (``local_error``
+        is NaN, nothing warns), and a run whose starting sweep or Newton
+        iteration fails returns its initial state only.
     iterations : int, optional
         Exactly this many iterations per step, with no convergence test
         (the report's "a few times").  By default iterate until converged.
@@ -308,7 +310,8 @@ def _check_choices(opts, order, adaptive, events):
                          "the error of the order-2 step")
     if iteration == "global" and adaptive:
         raise ValueError('iteration="global" needs h or knots')
-    if iteration == "global" and (order != 2 or events is not None
+    no_events = events is None or (isinstance(events, (list, tuple)) and len(events) == 0)
+    if iteration == "global" and (order != 2 or not no_events
                                   or opts["iterations"] is not None):
         raise ValueError('iteration="global" takes neither order > 2, events nor '
                          "iterations")
@@ -383,15 +386,19 @@ def _solve_global(fun, t0, tf, y0, yp0, h, n, knots, t_eval, args, opts, dense_o
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         guess = solve(fun, (t0, tf), y0, yp0, knots=knots, args=args, iterations=1)
-    if not guess.success:
-        return guess
     U = np.stack([guess.y.T, guess.yp.T, guess.ypp.T], axis=1)
     start = U[:1].copy()    # Newton moves the iterate's first knot too
+    if not guess.success:   # the guess is not the method's solution: nothing of it is kept
+        return bvp.result(knots[:1], start, -1, "The starting sweep (one fixed-point "
+                          f"iteration per step) failed: {guess.message.split(' Returning')[0]} "
+                          "Try a smaller h, or iteration='newton'. Returning the initial state.",
+                          guess.nstep, guess.nfev, int(jac is not None), dense_output=False)
     status, message, niter, nfev, njev = bvp.newton(
         fun, jac, args, knots, U, [(0, 0, y0), (0, 1, yp0)], opts["tol"], opts["max_iter"],
         hint="try a smaller h, or iteration='newton'")
     counts = (niter, nfev + guess.nfev, njev + int(jac is not None))
     if status != 0:
-        return bvp.result(knots[:1], start, status, message + " Returning the initial state.",
+        return bvp.result(knots[:1], start, status, message.rstrip(".") + ". Returning the "
+                          "initial state.",
                           *counts, dense_output=False)
     return bvp.result(knots, U, status, message, *counts, t_eval, dense_output)
