@@ -246,3 +246,14 @@ def test_compiled_fun_returning_a_mixed_tuple_is_refused_at_the_start():
         return (-y[0], 0)
     with pytest.raises(ValueError, match="a tuple of mixed types"):
         splinestep.solve(mixed, (0, 1), [1.0, 0.0], [0.0, 1.0], 0.1)
+
+
+def test_the_type_check_reads_the_signature_the_run_uses():
+    """A compiled fun once called with an integer t has a mixed-tuple
+    signature too; the run calls it with a float t, where it returns two
+    floats, and is not refused for the other signature."""
+    @njit
+    def time_and_rate(t, y, yp):
+        return (t, -y[1])
+    time_and_rate(1, np.ones(2), np.ones(2))   # compiles Tuple(int64, float64)
+    assert splinestep.solve(time_and_rate, (0.0, 1.0), [1.0, 1.0], [0.0, 0.0], 0.1).success

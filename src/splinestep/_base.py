@@ -6,6 +6,7 @@ import numbers
 import warnings
 
 import numpy as np
+from numba import typeof
 from numba.core import types
 from numba.core.registry import CPUDispatcher
 from numba.extending import overload
@@ -318,20 +319,34 @@ def _call_at_start(name, f, t0, y0, yp0, args):
                          f"{error}") from error
 
 
+def _compiled_return_type(fun, values):
+    """The return type numba gave a compiled ``fun`` for the argument types
+    of ``values`` (the types the run calls it with); None for a plain fun or
+    a signature numba did not compile under those types."""
+    if not is_compiled(fun):
+        return None
+    try:
+        key = tuple(typeof(v) for v in values)
+    except ValueError:
+        return None
+    compiled = fun.overloads.get(key)
+    return None if compiled is None else compiled.signature.return_type
+
+
 def check_fun(fun, t0, y0, yp0, args):
     """Call ``fun`` once at the start, from Python, and refuse what no step
     could use: ``None``, the wrong shape, complex or non-numeric values.
     A scalar is accepted when m = 1.  Returns the value as an array."""
     m = y0.shape[0]
     value = _call_at_start("fun", fun, t0, y0, yp0, args)
-    returns = [sig.return_type for sig in fun.nopython_signatures] if is_compiled(fun) else []
-    if any(isinstance(r, types.Optional) for r in returns):
+    returned = _compiled_return_type(fun, (float(t0), y0, yp0) + tuple(args))
+    if isinstance(returned, types.Optional):
         raise ValueError("fun is compiled with a value that may be None (numba types it as "
                          "optional); a compiled fun must return its values on every branch")
-    mixed = [r for r in returns if isinstance(r, types.Tuple) and not isinstance(r, types.UniTuple)]
-    if mixed:
-        raise ValueError(f"fun is compiled with a value of type {mixed[0]}, a tuple of mixed "
-                         "types; a compiled fun returns a tuple of floats (write 0.0, not 0)")
+    if isinstance(returned, types.Tuple) and not isinstance(returned, types.UniTuple):
+        raise ValueError(f"fun is compiled with a value of type {returned}, a tuple of mixed "
+                         "types; a compiled fun returns a tuple of float64 (write 0.0, not 0, "
+                         "and no float32)")
     try:
         array = np.asarray(value)
     except (TypeError, ValueError):

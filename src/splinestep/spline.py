@@ -392,7 +392,7 @@ def _solve_global(fun, t0, tf, y0, yp0, h, n, knots, t_eval, args, opts, dense_o
         return bvp.result(knots[:1], start, -1, "The starting sweep (one fixed-point "
                           f"iteration per step) failed: {guess.message.split(' Returning')[0]} "
                           "Try a smaller h, or iteration='newton'. Returning the initial state.",
-                          guess.nstep, guess.nfev, int(jac is not None), dense_output=False)
+                          guess.niter, guess.nfev, int(jac is not None), dense_output=False)
     status, message, niter, nfev, njev = bvp.newton(
         fun, jac, args, knots, U, [(0, 0, y0), (0, 1, yp0)], opts["tol"], opts["max_iter"],
         hint="try a smaller h, or iteration='newton'")
