@@ -375,7 +375,7 @@ def _solve_global(fun, t0, tf, y0, yp0, h, n, knots, t_eval, args, opts, dense_o
     trajectory from the guess of one fixed-point sweep per step (the
     stepper's cheapest pass).  The guess's step-size check is not
     reported: it would judge the guess, not the solution.  A run whose
-    Newton iteration fails returns its first knot only (no step of the
+    starting sweep or Newton iteration fails returns its first knot only (no step of the
     solution is completed before the whole trajectory is)."""
     if knots.size == 0:
         knots = t0 + h * np.arange(n + 1)
@@ -388,17 +388,18 @@ def _solve_global(fun, t0, tf, y0, yp0, h, n, knots, t_eval, args, opts, dense_o
         guess = solve(fun, (t0, tf), y0, yp0, knots=knots, args=args, iterations=1)
     U = np.stack([guess.y.T, guess.yp.T, guess.ypp.T], axis=1)
     start = U[:1].copy()    # Newton moves the iterate's first knot too
-    if not guess.success:   # the guess is not the method's solution: nothing of it is kept
-        return bvp.result(knots[:1], start, -1, "The starting sweep (one fixed-point "
-                          f"iteration per step) failed: {guess.message.split(' Returning')[0]} "
-                          "Try a smaller h, or iteration='newton'. Returning the initial state.",
-                          guess.niter, guess.nfev, int(jac is not None), dense_output=False)
-    status, message, niter, nfev, njev = bvp.newton(
-        fun, jac, args, knots, U, [(0, 0, y0), (0, 1, yp0)], opts["tol"], opts["max_iter"],
-        hint="try a smaller h, or iteration='newton'")
+    hint = "try a smaller h, or iteration='newton'"
+    if guess.success:
+        status, message, niter, nfev, njev = bvp.newton(
+            fun, jac, args, knots, U, [(0, 0, y0), (0, 1, yp0)], opts["tol"],
+            opts["max_iter"], hint=hint)
+    else:   # the guess is not the method's solution: nothing of it is kept
+        status, message, niter, nfev, njev = -1, (
+            "The starting sweep (one fixed-point iteration per step) failed: "
+            f"{guess.message.split(' Returning')[0]} {hint.capitalize()}"), guess.niter, 0, 0
     counts = (niter, nfev + guess.nfev, njev + int(jac is not None))
     if status != 0:
-        return bvp.result(knots[:1], start, status, message.rstrip(".") + ". Returning the "
-                          "initial state.",
-                          *counts, dense_output=False)
+        return bvp.result(knots[:1], start, status,
+                          message.rstrip(".") + ". Returning the initial state.", *counts,
+                          dense_output=False)
     return bvp.result(knots, U, status, message, *counts, t_eval, dense_output)
