@@ -7,7 +7,7 @@ In an empty numba cache the first type also compiles everything that does
 not depend on ``fun`` (the first row); a second type then costs only what
 is compiled per type (the second row).  ``python benchmarks/compile_time.py``
 prints both with each path's share; :mod:`speed` puts the totals in the
-README's bench table.
+bench table of website/speed.md.
 """
 
 import os

@@ -1,7 +1,7 @@
 """Speed of splinestep beside scipy, numba and C, in one run on one machine.
 
-Prints one table (and writes it into README.md between the markers
-``<!-- begin bench -->`` and ``<!-- end bench -->``):
+Prints one table (and writes it into the site's Speed page, website/speed.md,
+between the markers ``<!-- begin bench -->`` and ``<!-- end bench -->``):
 
 - time per right-hand-side evaluation of the compiled loops (splinestep's
   spline and RK4), against a C loop of the bare spline-step arithmetic
@@ -24,7 +24,7 @@ Prints one table (and writes it into README.md between the markers
 
 Times are medians of several runs; ratios compare rows of the same run.
 ``python benchmarks/speed.py --quick`` skips the two commands and leaves
-README.md alone.  Run with ``make bench``.
+website/speed.md alone.  Run with ``make bench``.
 """
 
 import os
@@ -392,7 +392,7 @@ def main(quick=False):
     text = "\n".join(lines)
     print(text)
     if not quick:
-        readme = ROOT / "README.md"
+        readme = ROOT / "website" / "speed.md"
         old = readme.read_text()
         new = re.sub(r"(<!-- begin bench -->\n).*?(<!-- end bench -->)",
                      lambda m: m.group(1) + text + "\n" + m.group(2), old, flags=re.S)

@@ -242,15 +242,27 @@ def test_messages_use_short_times():
     assert "t = 0.1)" in res.message and "0.10000000000000001" not in res.message
 
 
-def test_the_readme_examples_run():
-    """The README's code blocks, run in order in one namespace."""
+def test_the_readme_and_guide_examples_run():
+    """The Python blocks of the README and of the user guide
+    (website/guide.md), each file's run in order in one namespace."""
     from pathlib import Path
-    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
-    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
-    assert len(blocks) >= 3
-    namespace = {}
-    for block in blocks:
-        exec(compile(block, "README.md", "exec"), namespace)  # noqa: S102
+    root = Path(__file__).resolve().parents[1]
+    namespaces = {}
+    for name in ("README.md", "website/guide.md"):
+        text = (root / name).read_text()
+        blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+        assert blocks, name
+        namespace = namespaces[name] = {}
+        for block in blocks:
+            exec(compile(block, name, "exec"), namespace)  # noqa: S102
+    assert namespaces["README.md"]["res"].success
+    namespace = namespaces["website/guide.md"]
+    assert float(namespace["np"].log2(namespace["errors"][0] / namespace["errors"][1])) \
+        == pytest.approx(2.0, abs=0.05)
+    assert namespace["stiff"].status == -1 and namespace["stiff"].nstep == 0
+    bvp, exact = namespace["bvp"], namespace["exact"]
+    # tol (1e-6) bounds the estimated error; the true error within ten times it
+    assert bvp.status == 0 and np.max(np.abs(bvp.y[0] - exact(bvp.t))) < 1e-5
     res = namespace["res"]
     assert res.success and res.path == "compiled"
     g, height, speed = 9.81, 10.0, 5.0

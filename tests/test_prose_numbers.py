@@ -1,6 +1,7 @@
 """No number in prose that the computation does not produce.
 
-Every number in a Markdown cell of a notebook, and in the README outside
+Every number in a Markdown cell of a notebook, and in the README and the
+manual's pages of prose (website/*.md: PAGES) outside
 code blocks and the tables written from data/, must be either an input the
 text names (a problem parameter, a step, a tolerance, a constant of the
 theory: INPUTS; an equation, section, figure or year reference; a small
@@ -138,8 +139,14 @@ def markdown_cells(script):
     return [c.source for c in jupytext.read(script).cells if c.cell_type == "markdown"]
 
 
-def readme_prose():
-    text = (ROOT / "README.md").read_text().split("## References")[0]  # not the bibliography
+# The site's pages of prose; not the report in brief (the report's own
+# numbers), the API reference (docstrings) or the speed page (bench output).
+PAGES = ["README.md"] + [f"website/{name}.md" for name in
+                         ("guide", "scipy", "step-size-check", "fast-path", "findings", "layout")]
+
+
+def readme_prose(name="README.md"):
+    text = (ROOT / name).read_text().split("## References")[0]  # not the bibliography
     text = re.sub(r"```.*?```", " ", text, flags=re.S)
     text = re.sub(r"<!-- begin (\w+) -->.*?<!-- end \1 -->", " ", text, flags=re.S)
     return re.sub(r"\]\([^)]*\)", "]", text)  # link targets are paths
@@ -152,10 +159,11 @@ def test_every_number_in_a_notebook_is_an_input_or_computed(script, data_values)
     assert not any(bad.values()), {i: b for i, b in bad.items() if b}
 
 
-def test_every_number_in_the_readme_is_an_input_or_computed(data_values):
+@pytest.mark.parametrize("name", PAGES)
+def test_every_number_in_the_readme_and_manual_is_an_input_or_computed(name, data_values):
     outputs = [v for script in NOTEBOOKS for v in output_numbers(script.with_suffix(".ipynb"))]
     candidates = np.array(outputs + data_values)
-    assert unexplained(readme_prose(), candidates) == []
+    assert unexplained(readme_prose(name), candidates) == []
 
 
 def test_a_planted_number_is_found(data_values):

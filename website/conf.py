@@ -12,14 +12,23 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-import notebook_reader  # noqa: E402  (the source folder is the repository root)
+import docstrings  # noqa: E402  (the source folder is the repository root)
+import notebook_reader  # noqa: E402
 
 project = "splinestep"
 author = "the splinestep authors"
 copyright = "the splinestep authors"
 root_doc = "README"
-include_patterns = ["README.md", "notebooks/[0-9][0-9]_*.ipynb", "website/paper.md"]
-extensions = ["myst_nb"]
+include_patterns = ["README.md", "notebooks/[0-9][0-9]_*.ipynb", "website/*.md"]
+# The API reference (website/api.md) is written from the docstrings, which
+# are numpydoc: what help() shows is what the site shows.
+extensions = ["myst_nb", "sphinx.ext.autodoc", "sphinx.ext.napoleon"]
+sys.path.insert(0, str(HERE.parent / "src"))
+autodoc_member_order = "bysource"
+autodoc_typehints = "none"
+napoleon_google_docstring = False
+napoleon_numpy_docstring = True
+napoleon_use_rtype = False
 myst_enable_extensions = ["dollarmath", "amsmath"]
 myst_heading_anchors = 3
 # MathJax 2 typesets the page (its tex2jax reads the \\( \\) that myst writes);
@@ -32,7 +41,8 @@ nb_custom_formats = {".ipynb": ["notebook_reader.read", {}, False]}
 nb_merge_streams = True
 # y'' stays two primes (smart quotes would make it a closing quote).
 smartquotes = False
-suppress_warnings = ["myst.header", "misc.highlighting_failure"]
+# A docstring's References list need not be cited in its text.
+suppress_warnings = ["myst.header", "misc.highlighting_failure", "ref.citation"]
 
 html_theme = "sphinx_book_theme"
 html_title = "splinestep"
@@ -55,5 +65,7 @@ mathjax2_config = {"tex2jax": {"processEscapes": True}, "messageStyle": "none",
 
 def setup(app):
     app.connect("source-read", notebook_reader.site_contents)
+    # Before napoleon turns the numpydoc sections into reStructuredText.
+    app.connect("autodoc-process-docstring", docstrings.as_rst, priority=100)
     app.connect("build-finished", notebook_reader.copy_mathjax)
     app.connect("build-finished", notebook_reader.landing_redirect)

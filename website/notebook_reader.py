@@ -99,10 +99,16 @@ def copy_mathjax(app, exception):
     shutil.copytree(source, Path(app.outdir) / "_static" / "mathjax", dirs_exist_ok=True)
 
 
+# The manual's pages (website/NAME.md), in the order the sidebar lists them.
+MANUAL = ("guide", "api", "scipy", "step-size-check", "fast-path", "speed", "findings",
+          "report", "layout")
+
+
 def site_contents(app, docname, source):
     """Sphinx's source-read: the README (the landing page) ends with the
-    site's table of contents, the notebooks in reading order and the paper
-    (hidden: the sidebar shows it; the README lists them in its own words)."""
+    site's table of contents, the notebooks in reading order, the manual's
+    pages and the paper (hidden: the sidebar shows it; the README lists them
+    in its own words)."""
     if docname != "README":
         return
     # The README's reading order: by number, the claims notebook (which
@@ -111,6 +117,8 @@ def site_contents(app, docname, source):
                    key=lambda stem: (stem in LAST, stem))
     lines = ["", "```{toctree}", ":hidden:", ":caption: Notebooks", ""]
     lines += [f"notebooks/{page}" for page in pages]
+    lines += ["```", "", "```{toctree}", ":hidden:", ":caption: Manual", ""]
+    lines += [f"website/{page}" for page in MANUAL]
     lines += ["```", "", "```{toctree}", ":hidden:", ":caption: Paper", "", "website/paper", "```"]
     source[0] += "\n".join(lines) + "\n"
 
