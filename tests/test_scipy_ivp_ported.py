@@ -200,7 +200,7 @@ def test_scalar_t_eval_is_refused():
 @pytest.mark.parametrize("solver", ["solve", "rk4", "verlet"])
 def test_empty_state_and_empty_span_are_refused_by_name(solver):
     """scipy test_empty and test_zero_interval accept both; this package
-    refuses them with a ValueError naming the argument (README)."""
+    refuses them with a ValueError naming the argument (website/scipy.md)."""
     with pytest.raises(ValueError, match="y0"):
         getattr(splinestep, solver)(oscillator, (0.0, 1.0), [], [], 0.1)
     with pytest.raises(ValueError, match="t_span"):
@@ -388,7 +388,7 @@ def test_duplicate_timestamps(path):
     np.testing.assert_allclose(res.y_events[0], [[0.0]], atol=1e-12)
     np.testing.assert_allclose(res.yp_events[0], [[-v0]], rtol=1e-9)
     # scipy evaluates sol at 0.01, past the event, by extrapolation; this
-    # package's dense output refuses times outside the run (README).
+    # package's dense output refuses times outside the run (website/scipy.md).
     t = 0.001
     np.testing.assert_allclose([res.sol(t)[0], res.sol(t, 1)[0]],
                                [v0 * t - g * t ** 2 / 2, v0 - g * t], rtol=1e-9)
