@@ -2,7 +2,11 @@
 #   make reproduce   build .venv from environment.txt, run the notebooks whose inputs or outputs
 #                    changed (all of them on a fresh clone), write data/ and figures/, build the
 #                    paper (paper/splinestep.pdf) and the website (build/site/index.html) if what
-#                    they are built from changed; NB=03 (or NB="02 04") runs those notebooks
+#                    they are built from changed; NB=03 (or NB="02 04") runs those notebooks;
+#                    then compares what it wrote with the committed files (git HEAD) by the
+#                    rules of make test (tests/reproduction.py) and says how many are
+#                    identical, within tolerance, beyond; exit status 3 (make fails) when
+#                    one is beyond tolerance while the sources are HEAD's, 1 when a notebook fails
 #   make paper       build the paper alone from data/ and figures/
 #   make site        build the website alone from the notebooks and the paper
 #   make browser     install Debian's chromium (root), which tests/test_site.py drives

@@ -2,7 +2,11 @@
 
 Every column of every file in ``data/`` has a kind (:data:`COLUMNS`), and each
 kind has one tolerance (:data:`TOLERANCES`).  :func:`compare_frames` is the only
-comparison the data checks use.  The tolerances come from the meaning of the
+comparison the data checks use; :func:`figures_match` the only one of figures,
+:func:`notebook_difference` (nbval's rule) that of notebooks' printed text.
+``make test`` applies them to a fresh run (tests/test_outputs.py, nbval), and
+``make reproduce`` to what it rewrote, against git HEAD
+(scripts/rerun_report.py).  The tolerances come from the meaning of the
 numbers, not from the digits one machine printed:
 
 ``exact``
@@ -246,6 +250,40 @@ def kind_of(name, column):
                        "tests/reproduction.py") from None
 
 
+def row_kinds(name, frame, column):
+    """The kind of each row of ``column`` in ``frame`` (the committed
+    ``data/<name>.csv``): "text" for a text column, else the column's kind
+    with the rows of :data:`ADAPTIVE_ROWS`, :data:`ADAPTIVE_LONG_ROWS` and
+    :data:`ROUNDING_ROWS` in theirs.  KeyError if the column is undeclared."""
+    if not pd.api.types.is_numeric_dtype(frame[column]):
+        return np.full(len(frame), "text", dtype=object)
+    kinds = np.full(len(frame), kind_of(name, column), dtype=object)
+    select, adaptive_columns = ADAPTIVE_ROWS.get(name, (None, ()))
+    if column in adaptive_columns:
+        kinds[np.asarray(select(frame), dtype=bool)] = "adaptive"
+    pick, long_columns = ADAPTIVE_LONG_ROWS.get(name, (None, {}))
+    if column in long_columns:
+        kinds[np.asarray(pick(frame), dtype=bool)] = long_columns[column]
+    pick, rounding_columns = ROUNDING_ROWS.get(name, (None, ()))
+    if column in rounding_columns:
+        kinds[np.asarray(pick(frame), dtype=bool)] = "rounding"
+    return kinds
+
+
+def differing_rows(name, old, new, column):
+    """(kinds, differ): each row's kind (:func:`row_kinds`) and whether the
+    regenerated ``new`` value of ``column`` fails to reproduce the committed
+    ``old`` one at that kind's tolerance (text: as strings)."""
+    kinds = row_kinds(name, old, column)
+    if not pd.api.types.is_numeric_dtype(old[column]):
+        return kinds, (old[column].astype(str) != new[column].astype(str)).to_numpy()
+    differ = np.zeros(len(old), bool)
+    for k in set(kinds):
+        rows = kinds == k
+        differ[rows] = TOLERANCES[k].mismatch(old[column][rows], new[column][rows])
+    return kinds, differ
+
+
 def compare_frames(name, old, new):
     """Differences between the committed ``old`` and a regenerated ``new``
     version of ``data/<name>.csv``, as a list of readable strings (empty
@@ -255,30 +293,12 @@ def compare_frames(name, old, new):
         return [f"{name}: columns {list(new.columns)} instead of {list(old.columns)}"]
     if old.shape != new.shape:
         return [f"{name}: shape {new.shape} instead of {old.shape}"]
-    select, adaptive_columns = ADAPTIVE_ROWS.get(name, (lambda f: np.zeros(len(f), bool), ()))
-    adaptive = np.asarray(select(old), dtype=bool)
     for column in old.columns:
-        if not pd.api.types.is_numeric_dtype(old[column]):
-            differ = (old[column].astype(str) != new[column].astype(str)).to_numpy()
-            kinds = np.full(len(old), "text", dtype=object)
-        else:
-            kind = kind_of(name, column)
-            kinds = np.full(len(old), kind, dtype=object)
-            if column in adaptive_columns:
-                kinds[adaptive] = "adaptive"
-            pick, long_columns = ADAPTIVE_LONG_ROWS.get(name, (None, {}))
-            if column in long_columns:
-                kinds[np.asarray(pick(old), dtype=bool)] = long_columns[column]
-            pick, rounding_columns = ROUNDING_ROWS.get(name, (None, ()))
-            if column in rounding_columns:
-                kinds[np.asarray(pick(old), dtype=bool)] = "rounding"
-            differ = np.zeros(len(old), bool)
-            for k in set(kinds):
-                rows = kinds == k
-                differ[rows] = TOLERANCES[k].mismatch(old[column][rows], new[column][rows])
+        kinds, differ = differing_rows(name, old, new, column)
         for row in np.flatnonzero(differ)[:3]:
-            problems.append(f"{name}: {column}[{row}] ({kinds[row]}) "
-                            f"{old[column].iloc[row]!r} -> {new[column].iloc[row]!r}")
+            was, now = (getattr(v, "item", lambda v=v: v)() for v in
+                        (old[column].iloc[row], new[column].iloc[row]))  # 0.1, not np.float64(0.1)
+            problems.append(f"{name}: {column}[{row}] ({kinds[row]}) {was!r} -> {now!r}")
         if differ.sum() > 3:
             problems.append(f"{name}: {column}: {differ.sum() - 3} more rows differ")
     return problems
@@ -323,10 +343,103 @@ def unmatched_pixels(old_png, new_png, shift=FIGURE_SHIFT):
     return int(np.sum(best > FIGURE_COLOUR))
 
 
+def unmatched_both_ways(old_png, new_png):
+    """The larger of the numbers of unmatched pixels of ``new_png`` in
+    ``old_png`` and back, within the shift allowed for this figure (named
+    by ``old_png``'s file name), or None when the sizes differ."""
+    shift = FIGURE_SHIFTS.get(Path(old_png).stem, FIGURE_SHIFT)
+    there = unmatched_pixels(old_png, new_png, shift)
+    if there is None:
+        return None
+    return max(there, unmatched_pixels(new_png, old_png, shift))
+
+
 def figures_match(old_png, new_png):
     """True when ``new_png`` reproduces ``old_png`` under the rule above
     (checked both ways, so nothing may appear or vanish)."""
-    shift = FIGURE_SHIFTS.get(Path(old_png).stem, FIGURE_SHIFT)
-    there = unmatched_pixels(old_png, new_png, shift)
-    back = unmatched_pixels(new_png, old_png, shift)
-    return there is not None and there <= FIGURE_PIXELS and back <= FIGURE_PIXELS
+    unmatched = unmatched_both_ways(old_png, new_png)
+    return unmatched is not None and unmatched <= FIGURE_PIXELS
+
+
+# Notebooks: `make test` runs each notebook under nbval, which compares the
+# outputs of every code cell with the stored ones after the substitutions of
+# the sanitize file named in pyproject.toml (tests/nbval-sanitize.cfg):
+# printed text, results and HTML must be identical; images, metadata and
+# execution counts are not compared.  notebook_difference applies that rule,
+# with nbval's own functions, to a regenerated notebook and the committed one.
+# nbval's keys left out of the comparison (nbval.plugin.IPyNbFile, without --nbdime).
+NBVAL_SKIP = ("metadata", "traceback", "prompt_number", "output_type", "name",
+              "execution_count", "application/vnd.jupyter.widget-view+json",
+              "image/png", "image/jpeg")
+
+
+def nbval_sanitize_patterns(root=Path(__file__).resolve().parents[1]):
+    """{regex: replacement} of the sanitize file that pytest's addopts in
+    ``root``/pyproject.toml give nbval, in its order."""
+    import tomllib
+    from nbval.plugin import get_sanitize_patterns
+    config = tomllib.loads((Path(root) / "pyproject.toml").read_text())
+    options = config["tool"]["pytest"]["ini_options"]["addopts"].split()
+    cfg = Path(root) / options[options.index("--nbval-sanitize-with") + 1]
+    return dict(get_sanitize_patterns(cfg.read_text()))
+
+
+class _NbvalCell:
+    """What nbval's cell item (nbval.plugin.IPyNbCell) needs to compare
+    outputs, without a pytest session; keeps the first mismatch it reports."""
+
+    def __init__(self, patterns):
+        from nbval.plugin import IPyNbCell, nocolors
+        self.parent = type("File", (), dict(skip_compare=NBVAL_SKIP,
+                                            sanitize_patterns=patterns))()
+        self.colors, self.mismatch = nocolors, None
+        self._compare, self._sanitize = IPyNbCell.compare_outputs, IPyNbCell.sanitize
+
+    def sanitize(self, text):
+        return self._sanitize(self, text)
+
+    def format_output_compare(self, key, left, right):
+        self.mismatch = (key, left, right)
+
+    def compare(self, test, ref):
+        return self._compare(self, test, ref)
+
+
+def notebook_difference(old_json, new_json, patterns=None):
+    """None when the notebook ``new_json`` (its text) prints what ``old_json``
+    prints, as nbval compares them; else (where, old, new): the first code
+    cell that differs ("Cell N", nbval's name for it) and its first
+    differing line in each (sanitized), or what else differs (the number of
+    code cells, a cell's source, its outputs' kinds)."""
+    import nbformat
+    from nbval.plugin import coalesce_streams, find_comment_markers, find_metadata_tags
+    patterns = nbval_sanitize_patterns() if patterns is None else patterns
+    old_cells, new_cells = [[c for c in nbformat.reads(text, as_version=4).cells
+                             if c.cell_type == "code"] for text in (old_json, new_json)]
+    if len(old_cells) != len(new_cells):
+        return "cells", f"{len(old_cells)} code cells", f"{len(new_cells)} code cells"
+    for number, (old, new) in enumerate(zip(old_cells, new_cells)):
+        if old.source != new.source:
+            return (f"Cell {number} (source)", *_first_difference(old.source, new.source))
+        options = dict(find_metadata_tags(old.metadata))
+        options.update(find_comment_markers(old.source))
+        if options.get("skip") or not options.get("check", True) or old.execution_count is None:
+            continue
+        cell = _NbvalCell(patterns)
+        if cell.compare(coalesce_streams(new.outputs), coalesce_streams(old.outputs)):
+            continue
+        if cell.mismatch is None:  # another number or kind of outputs
+            kinds = [", ".join(o.get("name", o.output_type) for o in c.outputs) or "none"
+                     for c in (old, new)]
+            return f"Cell {number}", f"outputs: {kinds[0]}", f"outputs: {kinds[1]}"
+        _, left, right = cell.mismatch
+        return (f"Cell {number}", *_first_difference(str(left), str(right)))
+    return None
+
+
+def _first_difference(old, new):
+    """The first line where the texts ``old`` and ``new`` differ, in each."""
+    old, new = old.splitlines() or [""], new.splitlines() or [""]
+    line = next((i for i, (a, b) in enumerate(zip(old, new)) if a != b),
+                min(len(old), len(new)))
+    return tuple(lines[line] if line < len(lines) else "(no more lines)" for lines in (old, new))
