@@ -9,7 +9,6 @@
 # %%
 import inspect
 import sys
-from html import escape
 
 from IPython.display import HTML, display
 
@@ -40,18 +39,19 @@ outputs.save_data(table, "claims")
 # reproduced* judge what the report claims; *built* and *proved* answer what it
 # suggests (a method built and measured, a proof); *beyond the report* marks
 # findings it does not make.  What was measured, and each verdict in full, are
-# in the second table (click to open it) and in `data/claims.csv`.
+# in the second table (click to open it) and in `data/claims.csv`.  Each
+# "where" links to that place in the report in brief (`website/report.md`:
+# the report's equations, figures and claims by its own numbers).
 
 # %%
-glance = claims.glance(table)
-glance["measured in"] = [f'<a href="{n}.ipynb">{n[:2]}: {escape(s)}</a>'
-                         for n, s in glance["measured in"]]
-display(HTML(claims.table_html(glance, raw=("measured in",))))
+links = dict(root="../", html=True)  # the way from notebooks/ to the root
+glance = claims.with_links(claims.glance(table), **links)
+display(HTML(claims.table_html(glance, raw=("where", "measured in"))))
 
 # %%
+full = claims.with_links(table[["where", "claim", "measured", "verdict"]], **links)
 display(HTML("<details><summary><b>What was measured, and the verdicts in full</b></summary>"
-             + claims.table_html(table[["where", "claim", "measured", "verdict"]])
-             + "</details>"))
+             + claims.table_html(full, raw=("where",)) + "</details>"))
 
 # %% [markdown]
 # The few numbers the paper (`paper/splinestep.typ`) states in its prose, each
@@ -80,4 +80,4 @@ print(f"first zero at t = {crossing:.3f}")
 # %%
 errata = claims.errata_table(measured, crossing)
 outputs.save_data(errata, "errata")
-display(HTML(claims.table_html(errata)))
+display(HTML(claims.table_html(claims.with_links(errata, **links), raw=("where",))))

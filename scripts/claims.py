@@ -12,11 +12,18 @@ typed.  Each claim is one function of a :class:`Measured`, listed in
 report makes the claim, what it says, what was measured, the verdict in
 full, its kind (:data:`KINDS`) and the notebook section that measures it.
 
-The tables are plain text (``4.1e-03``, ``omega^2``, ``sqrt(12)``);
-:func:`outputs.readable` shows them as a reader reads them.
+The tables are plain text (``4.1e-03``, ``omega^2``, ``sqrt(12)``) with
+formulas in TeX between dollars (``$c_{i+1} = r - p\\thinspace b_{i+1}$``):
+:func:`readable` shows the text as a reader reads it and leaves the formulas
+to MathJax (the README, notebook 05, the website) and to the paper, which
+typesets the few TeX commands they use.  Shown as tables, each reference of
+the column "where" links to its heading on the report page
+(:data:`REPORT_PAGE`, :func:`report_heading`) and each notebook section to
+its heading (:func:`section_anchor`): :func:`with_links`.
 """
 
-from functools import cached_property
+import re
+from functools import cache, cached_property
 from html import escape
 from pathlib import Path
 
@@ -177,7 +184,7 @@ def orbit_types(m):
     elements = m.elements
     return row(
         "Sec. 3.1", "mu = 0.4, 0.5, 0.6, 1 give hyperbolic, parabolic, elliptic, circular orbits",
-        "with launch x(0) = (1, 0), x'(0) = (0, 1): energies "
+        "with launch $x(0) = (1, 0)$, $x'(0) = (0, 1)$: energies "
         + ", ".join(f"{elements[mu]['energy']:.1f}" for mu in problems.CANNONBALL_MU)
         + "; eccentricities "
         + ", ".join(f"{elements[mu]['eccentricity']:.3g}" for mu in problems.CANNONBALL_MU),
@@ -219,7 +226,8 @@ def rigid_body_below_1e3(m):
         f"t = 80, growing linearly ({sci(drift.loc['spline', 'energy_error_t800'])} at t = 800, "
         f"growth ratio {drift.loc['spline', 'growth_ratio']:.1f} over eight parts of the run); "
         f"angular-velocity error {sci(rigid.loc['consistent', 'solution_error_spline'])}. "
-        f"Started with the report's printed rates (d omega/dt = 0): the energy varies by "
+        f"Started with the report's printed rates ($\\mathrm{{d}}\\omega/\\mathrm{{d}}t = 0$): the "
+        f"energy varies by "
         f"{sci(rigid.loc['printed', 'energy_change_spline'])}, "
         f"as along a DOP853 solution of the same equations "
         f"({sci(rigid.loc['printed', 'energy_change_reference'])})",
@@ -240,10 +248,10 @@ def error_follows_orbit(m):
         f"{location['curvature_ratio_arcs']:.2f} (equal at both apsides; the smallest curvature, "
         f"{location['min_curvature']:.3f} per unit length, at r = {location['r_min_curvature']:.2f}; "
         f"correlation of the logarithms with the rate {location['log_correlation_rate_curvature']:.2f}); "
-        f"acceleration |x''| = mu/r^2 {location['acceleration_ratio_arcs']:.0f} "
+        f"acceleration $\\lvert x''\\rvert = \\mu/r^2$ {location['acceleration_ratio_arcs']:.0f} "
         f"({location['acceleration_ratio_apsides']:.0f} between the apsides, r = "
         f"{a * (1 - e):.0f} and {a * (1 + e):.0f}; "
-        f"correlation of the logarithms {location['log_correlation_rate_acceleration']:.2f}); |x''''| "
+        f"correlation of the logarithms {location['log_correlation_rate_acceleration']:.2f}); $\\lvert x''''\\rvert$ "
         f"{sci(location['x4_ratio_arcs'])} (correlation of the logarithms "
         f"{location['log_correlation_rate_x4']:.2f}). "
         f"{location['energy_variation_share_r_lt_1_5']:.0%} of the energy-error variation at "
@@ -294,17 +302,19 @@ def stable(m):
     spline_factor = "to within 1e-12" if spline_rho < 1e-12 else f"to {sci(spline_rho)}"
     return row(
         "Sec. 5", "the method is stable (inferred from its convergence)",
-        f"convergent at order 2 (slopes above), i.e. zero-stable as h -> 0. Linear stability "
-        f"is conditional: on y'' = -omega^2 y the spline's amplification factor is 1 (no damping) "
-        f"{spline_factor} for omega h up to {phase.omega_h.max():.2f}, below its limit "
-        f"sqrt(12) = {np.sqrt(12):.2f}. RK4's factor is below 1 for every omega h below its limit "
-        f"2 sqrt(2) = {2 * np.sqrt(2):.2f} (it damps, |R| = (1 - x^6/72 + x^8/576)^(1/2) with "
-        f"x = omega h, least at x = sqrt(6) where |R| = 0.5; measured {rk4_stable.min():.3f} at "
-        f"the nearest sampled omega h, {phase.omega_h[rk4_stable.idxmin()]:.2f}; 1 - "
-        f"{sci(1 - rk4_stable.max())} at omega h = "
-        f"{phase.omega_h.min():.2f}) and above 1 beyond it (|R| up to {rk4_unstable.max():.2f}, "
-        f"at omega h = {phase.omega_h.max():.2f}). The "
-        f"fixed-point sweep needs omega h < sqrt(6) = {np.sqrt(6):.2f}",
+        f"convergent at order 2 (slopes above), i.e. zero-stable as $h \\to 0$. Linear stability "
+        f"is conditional: on $y'' = -\\omega^2 y$ the spline's amplification factor is 1 (no "
+        f"damping) {spline_factor} for $\\omega h$ up to {phase.omega_h.max():.2f}, below its limit "
+        f"$\\sqrt{{12}} = {np.sqrt(12):.2f}$. RK4's factor is below 1 for every $\\omega h$ below "
+        f"its limit $2\\sqrt{{2}} = {2 * np.sqrt(2):.2f}$ (it damps, "
+        f"$\\lvert R\\rvert = (1 - x^6/72 + x^8/576)^{{1/2}}$ with "
+        f"$x = \\omega h$, least at $x = \\sqrt{{6}}$ where $\\lvert R\\rvert = 0.5$; measured "
+        f"{rk4_stable.min():.3f} at the nearest sampled $\\omega h$, "
+        f"{phase.omega_h[rk4_stable.idxmin()]:.2f}; 1 - {sci(1 - rk4_stable.max())} at "
+        f"$\\omega h = {phase.omega_h.min():.2f}$) and above 1 beyond it "
+        f"($\\lvert R\\rvert$ up to {rk4_unstable.max():.2f}, "
+        f"at $\\omega h = {phase.omega_h.max():.2f}$). The "
+        f"fixed-point sweep needs $\\omega h < \\sqrt{{6}} = {np.sqrt(6):.2f}$",
         "reproduced in the report's sense (convergence); linear stability is conditional, "
         "as for RK4, and without RK4's damping",
         "reproduced", "01_method", "Stability and period error")
@@ -328,13 +338,15 @@ def proof(m):
     c = m.constant
     return row(
         "Sec. 5", "a formal proof of convergence may lend insight",
-        "the y_n obey the two-step method rho = (zeta - 1)^2, sigma = (zeta^2 + 4 zeta + 1)/6 "
-        "(sympy), order 2, error constant -1/12, zero-stable; with starting errors O(h^3) "
-        "(y_0 exact, y_1 from one step) Henrici's theorem gives order 2. Constants against "
+        "the $y_n$ obey the two-step method $\\rho(\\zeta) = (\\zeta - 1)^2$, "
+        "$\\sigma(\\zeta) = (\\zeta^2 + 4\\zeta + 1)/6$ (sympy), order 2, error constant "
+        "$-1/12$, zero-stable; with starting errors $O(h^3)$ "
+        "($y_0$ exact, $y_1$ from one step) Henrici's theorem gives order 2. Constants against "
         "measurements: local error of y "
         f"{c(LOCAL_ERROR)}; period error {c(PERIOD_ERROR)}; stability limit "
-        f"sqrt(12) {c(STABILITY_LIMIT, 10)} (stable for omega h < sqrt(12) only: at the "
-        f"limit a Jordan block, |y_1000| {c(AT_LIMIT)} from (y, h y') = (0, 1))",
+        f"$\\sqrt{{12}}$ {c(STABILITY_LIMIT, 10)} (stable for $\\omega h < \\sqrt{{12}}$ only: "
+        f"at the limit a Jordan block, $\\lvert y_{{1000}}\\rvert$ {c(AT_LIMIT)} from "
+        f"$(y, h y') = (0, 1)$)",
         "proved (notebooks/06_theory)",
         "proved", "06_theory", "The two-step recurrence, its order, and the convergence theorem")
 
@@ -343,16 +355,16 @@ def higher_degree(m):
     degrees = m.higher_degree_roots.set_index("degree")
     return row(
         "Sec. 5", "higher-order polynomial splines with more continuity may do better",
-        f"degree 4 (C3): extra root -1, order {degrees.loc[4, 'fitted_order_ellipse']:.2f} on the "
+        f"degree 4 ($C^3$): extra root -1, order {degrees.loc[4, 'fitted_order_ellipse']:.2f} on the "
         f"ellipse but weakly stable (a parasitic mode that damping makes grow); degree 5 and 6: "
         f"spurious roots of modulus {degrees.loc[5, 'largest_spurious_root']:.3f} and "
         f"{degrees.loc[6, 'largest_spurious_root']:.3f} (errors grow by "
         f"{degrees.loc[5, 'measured_growth_per_step']:.3f} and "
         f"{degrees.loc[6, 'measured_growth_per_step']:.3f} per step)",
         "built: degree 4 raises the order (to 4 on the ellipse, when started with the exact "
-        "y'''(0); from y'''(0) = 0 its error is about the cubic's) but is only weakly stable (a "
+        "$y'''(0)$; from $y'''(0) = 0$ its error is about the cubic's) but is only weakly stable (a "
         "parasitic mode that damping makes grow); degrees 5 and 6 diverge for every h (as "
-        "Loscalzo and Talbot 1967 found for y' = f)",
+        "Loscalzo and Talbot 1967 found for $y' = f$)",
         "built", "07_higher_degree", "Degree k, k - 1 continuous derivatives")
 
 
@@ -375,13 +387,13 @@ def bounded_energy(m):
         f"sweep per step the energy error drifts: "
         f"{sci(one_sweep.final_energy_error)} after 10,000 orbits "
         f"(exponent {one_sweep.energy_exponent:.2f}) downwards, and the "
-        f"period shortens with it (mean T_h/T - 1 over 200 orbits "
+        f"period shortens with it (mean $T_h/T - 1$ over 200 orbits "
         f"{sci(phase_drift.loc['spline, 1 sweep', 'period_error'])}). The "
         f"position is not bounded: the polar angle lags by "
         f"{sci(-phase_drift.loc['spline', 'drift_from_angle'])} rad per orbit (Verlet "
         f"{sci(-phase_drift.loc['Verlet', 'drift_from_angle'])}), measured against the exact "
         f"solution and, to a relative {sci(agreement, 1)}, from the periapsis passages alone",
-        "a finding beyond the report: the method is Verlet in the variables q - h^2 f(q)/6, "
+        "a finding beyond the report: the method is Verlet in the variables $q - h^2 f(q)/6$, "
         "so a modified energy is conserved and the energy error does not drift over 10,000 "
         "orbits; the phase drifts; this holds for the step equation solved to convergence, not "
         "for one sweep per step",
@@ -416,6 +428,9 @@ def adaptability(m):
     # Steps whose true local error is below rounding (notebook 09) are left out.
     estimate = estimate[estimate.true > 1e-12]
     pleiades = m.pleiades_steps
+    # The uniform runs this claim states: h >= 1e-3 (notebook 12 also runs smaller steps).
+    uniform_h = pleiades.run.str.extract(r"^uniform h = (.*)$")[0].astype(float)
+    pleiades = pleiades[~(uniform_h < 1e-3)]
     adaptive = pleiades[pleiades.run.str.startswith("adaptive")]
     failing = pleiades[pleiades.status != 0]
     reached = pleiades[pleiades.run.str.startswith("uniform") & (pleiades.status == 0)]
@@ -456,7 +471,7 @@ def adaptability(m):
         f"{reached.error.max():.1f}, all flagged as too large a step; adaptive "
         f"runs reach t = 3 (errors {sci(adaptive.error.min())} to "
         f"{sci(adaptive.error.max())}); a step equation that fails is retried smaller "
-        f"(shown on y'' = -y from a first step of 3; no adaptive Pleiades run needed it). Over "
+        f"(shown on $y'' = -y$ from a first step of 3; no adaptive Pleiades run needed it). Over "
         f"300 orbits the adaptive energy error (rtol 0.1) goes from {sci(wandering.iloc[0], 1)} to "
         f"{sci(wandering.iloc[-30:].max(), 2)}; time-reversible steps (Hairer and Soderlind) keep "
         f"it at {sci(reversible.mean())}. Newton keeping its Jacobian and LU factors across "
@@ -572,8 +587,8 @@ def boundary_value_problems(m):
     estimate_over_true = runs.estimated_error / runs.true_error
     return row(
         "(none)", "boundary value problems",
-        f"solve_bvp: Bratu (lambda = 1) both branches from the guesses 0.1 sin(pi x) and "
-        f"4 sin(pi x), fitted orders {orders['lower']:.2f} and {orders['upper']:.2f} "
+        f"solve_bvp: Bratu ($\\lambda = 1$) both branches from the guesses $0.1 \\sin(\\pi x)$ and "
+        f"$4 \\sin(\\pi x)$, fitted orders {orders['lower']:.2f} and {orders['upper']:.2f} "
         f"against the exact solutions; scipy's solve_bvp (4th order, mesh refinement, tol 1e-8, "
         f"up to 100,000 nodes: {'converged' if set(bratu.scipy_status) == {0} else 'not converged'} "
         f"in every run) uses {bratu.scipy_points.min()} to {bratu.scipy_points.max()} nodes for "
@@ -588,7 +603,7 @@ def boundary_value_problems(m):
         "spline collocation, far less accurate per node than scipy's, with "
         "a tolerance on the solution (mesh halving); a run without solution ends as failed, "
         "with a message, and so does a problem whose solution does not converge with the mesh "
-        "(y'' = -y, y(0) = 0, y(pi) = 1, which has none)",
+        "($y'' = -y$, $y(0) = 0$, $y(\\pi) = 1$, which has none)",
         "beyond the report", "11_global_sweep_and_bvp", "Boundary value problems")
 
 
@@ -633,19 +648,24 @@ def errata_table(measured=None, crossing=None):
     body = problems.rigid_body("consistent")
     rigid, long_drift = m.rigid, m.long_drift
     return pd.DataFrame([
-        ("eq. 9", "c_{i+1} = r - p b_{i+1} - q a_{i+1} lacks the factor 1/2 of eq. 5 (c is half "
-         "the second derivative)",
-         f"taken literally it solves y'' = 2F: on y'' = -y the first zero moves from "
-         f"pi/2 = {np.pi / 2:.3f} to {crossing:.3f} (pi/(2 sqrt 2) = {np.pi / (2 * np.sqrt(2)):.3f})"),
-        ("eq. 13", "the energy omits mu: H = v^2/2 - mu/r",
+        ("eq. 9", "$c_{i+1} = r - p\\thinspace b_{i+1} - q\\thinspace a_{i+1}$ lacks the factor "
+         "$1/2$ of eq. 5 ($c$ is half the second derivative)",
+         f"taken literally it solves $y'' = 2F$: on $y'' = -y$ the first zero moves from "
+         f"$\\pi/2 = {np.pi / 2:.3f}$ to {crossing:.3f} "
+         f"($\\pi/(2\\sqrt{{2}}) = {np.pi / (2 * np.sqrt(2)):.3f}$)"),
+        ("eq. 13", "the energy omits $\\mu$: $H = v^2/2 - \\mu/r$",
          "along the exact orbits, eq. 13 as printed varies by "
-         + ", ".join(f"{spread[mu]:.2f} (mu = {mu:g})" for mu in problems.CANNONBALL_MU)),
-        ("eq. 15", "beta is never defined", "differentiating Euler's equations gives eq. 15 with "
-         "beta = 0; the exact Jacobi-elliptic motion satisfies eqs. 15-18 with beta = 0 (tests)"),
+         + ", ".join(f"{spread[mu]:.2f} ($\\mu = {mu:g}$)" for mu in problems.CANNONBALL_MU)),
+        ("eq. 15", "$\\beta$ is never defined", "differentiating Euler's equations gives eq. 15 "
+         "with $\\beta = 0$; the exact Jacobi-elliptic motion satisfies eqs. 15-18 with "
+         "$\\beta = 0$ (tests)"),
         ("Sec. 3.1", "the cannonball's initial values are not printed",
-         "x(0) = (1, 0), x'(0) = (0, 1) reproduces the four named orbit types (energy 1/2 - mu)"),
-        ("Sec. 3.2", "d omega/dt(0) = 0 contradicts Euler's equations",
-         f"they give d omega/dt(0) = ({', '.join(f'{v:.2e}' for v in body.yp0)}); with the "
+         "$x(0) = (1, 0)$, $x'(0) = (0, 1)$ reproduces the four named orbit types (energy "
+         "$1/2 - \\mu$)"),
+        ("Sec. 3.2", "$\\mathrm{d}\\omega/\\mathrm{d}t\\thinspace(0) = 0$ contradicts Euler's "
+         "equations",
+         f"they give $\\mathrm{{d}}\\omega/\\mathrm{{d}}t\\thinspace(0)$ = "
+         f"({', '.join(f'{v:.2e}' for v in body.yp0)}); with the "
          f"printed rates the energy "
          f"of eq. 19 varies by {sci(rigid.loc['printed', 'energy_change_reference'])} along a "
          "DOP853 solution (rtol 1e-13) of the printed equations"),
@@ -654,15 +674,16 @@ def errata_table(measured=None, crossing=None):
          f"per step (one per sweep) on the cannonball at dt = 0.01 and "
          f"{rigid.loc['consistent', 'spline_evaluations_per_step']:.2f} on the rigid body at "
          f"dt = 0.016; one sweep keeps order 2 (max error {sci(one_sweep, 3)} against "
-         f"{sci(converged, 3)} converged, mu = 0.6, dt = 0.01, t in [0, 50]) but is another "
+         f"{sci(converged, 3)} converged, $\\mu = 0.6$, $\\Delta t = 0.01$, $t \\in [0, 50]$) but is "
+         f"another "
          f"method over long runs: its energy error drifts to "
          f"{sci(long_drift.loc['spline, 1 sweep', 'final_energy_error'])} over 10,000 orbits, "
          f"where the converged step's stays at "
          f"{sci(long_drift.loc['spline', 'final_energy_error'])}"),
         ("Sec. 2", "the scheme is derived for the linear eq. 4 but applied to nonlinear problems",
-         "the same steps hold for y'' = F(t, y, y'); the implicit equation is then nonlinear"),
-        ("Sec. 3.1", "omega^2 'describes the gravitational constant'",
-         "omega^2 = mu / r^3 varies along the orbit; mu is the gravitational parameter"),
+         "the same steps hold for $y'' = F(t, y, y')$; the implicit equation is then nonlinear"),
+        ("Sec. 3.1", "$\\omega^2$ 'describes the gravitational constant'",
+         "$\\omega^2 = \\mu/r^3$ varies along the orbit; $\\mu$ is the gravitational parameter"),
     ], columns=["where", "erratum", "evidence"])
 
 
@@ -720,16 +741,127 @@ def glance(claims):
             .assign(**{"measured in": list(zip(claims.notebook, claims.section))}))
 
 
+def readable(text):
+    """``text`` as a reader reads it (:func:`outputs.readable`: 4.1 \u00d7 10\u207b\u00b3, \u03c9,
+    \u221a12, \u0394t), its formulas between dollars left for MathJax."""
+    return "".join(part if part.startswith("$") and part.endswith("$") and len(part) > 1
+                   else outputs.readable(part) for part in re.split(r"(\$[^$]+\$)", text))
+
+
+# The report in brief, the website's page of the report's equations, figures
+# and claims by its own numbers: a heading for each of its sections (the
+# report's numbers and titles), equations ("Eq. 9") and figures ("Fig. 2"),
+# and one for the findings it does not make, whose anchors the tables link to.
+REPORT_PAGE = "website/report.md"
+REPORT_SECTIONS = {"1": "Introduction", "2": "Cubic spline time-stepping algorithm",
+                   "3": "Test cases", "3.1": "Newton's cannonball",
+                   "3.2": "Euler equations for rigid body rotation", "4": "Results",
+                   "5": "Discussion", "6": "Conclusion"}
+BEYOND_THE_REPORT = "Not in the report"
+
+
+def anchor(heading):
+    """The anchor GitHub and MyST (``myst_heading_anchors``) give a Markdown
+    heading: its text without inline math (which MyST leaves out), code
+    marks or emphasis marks, in lower case, spaces as hyphens, every
+    character but letters, digits, ``_`` and ``-`` dropped ("Sec. 3.1
+    Newton's cannonball": sec-31-newtons-cannonball).  A heading whose anchor
+    an earlier heading of the page has takes "-1" (:func:`anchors`)."""
+    text = re.sub(r"\$[^$]*\$", "", heading).replace("`", "").replace("*", "")
+    return re.sub(r"[^\w\- ]", "", text.lower()).replace(" ", "-")
+
+
+def anchors(headings):
+    """The anchors of a page's headings (levels 1 to 3, in order), made unique
+    as GitHub and MyST make them: a second "x" is "x-1", a third "x-2"."""
+    found = []
+    for heading in headings:
+        base = unique = anchor(heading)
+        count = 0
+        while unique in found:
+            count += 1
+            unique = f"{base}-{count}"
+        found.append(unique)
+    return found
+
+
+def report_heading(reference):
+    """The heading of the report page that a reference of the column "where"
+    leads to: "Sec. 3.1" to its section ("Sec. 3.1 Newton's cannonball"),
+    "eq. 9" to "Eq. 9", "Fig. 2a" to "Fig. 2", "(none)" to
+    :data:`BEYOND_THE_REPORT`."""
+    if reference == "(none)":
+        return BEYOND_THE_REPORT
+    if (match := re.fullmatch(r"Sec\. (\d(?:\.\d)?)", reference)) and match[1] in REPORT_SECTIONS:
+        return f"Sec. {match[1]} {REPORT_SECTIONS[match[1]]}"
+    if match := re.fullmatch(r"[Ee]q\. (\d+)", reference):
+        return f"Eq. {match[1]}"
+    if match := re.fullmatch(r"Fig\. (\d)[ab]?", reference):
+        return f"Fig. {match[1]}"
+    raise ValueError(f"not a reference to the report's sections, equations or figures: "
+                     f"{reference!r}")
+
+
+@cache
+def notebook_headings(notebook):
+    """The headings of notebooks/NOTEBOOK.py that have anchors (levels 1 to
+    3, as ``myst_heading_anchors = 3``), in order: (heading, anchor)."""
+    import jupytext
+    cells = jupytext.read(outputs.ROOT / "notebooks" / f"{notebook}.py").cells
+    headings = [match[1] for cell in cells if cell.cell_type == "markdown"
+                for match in re.finditer(r"^ {0,3}#{1,3}[ \t]+(.+?)[ \t]*$", cell.source, re.M)]
+    return list(zip(headings, anchors(headings)))
+
+
+def section_anchor(notebook, section):
+    """The anchor of the heading of notebooks/NOTEBOOK that the column
+    "section" names: the one whose text, without a leading number ("2. ")
+    or the dollars of its math, is ``section``, or else the first that
+    starts with it."""
+    headings = [(re.sub(r"^\d+\. ", "", heading).replace("$", ""), found)
+                for heading, found in notebook_headings(notebook)]
+    for text, found in sorted(headings, key=lambda pair: pair[0] != section):
+        if text.startswith(section):
+            return found
+    raise ValueError(f"no heading of notebooks/{notebook} starts with {section!r}")
+
+
+def link(text, target, html=False):
+    """A Markdown link, or (``html``) an HTML one."""
+    if html:
+        return f'<a href="{escape(target)}">{escape(text)}</a>'
+    return f"[{text}]({target})"
+
+
+def with_links(frame, root="", html=False):
+    """``frame`` (the claims, :func:`glance` or the errata) with each
+    reference of its column "where" ("Sec. 5, Fig. 2a": two) a link to its
+    heading on the report page, and each (notebook, section) of its column
+    "measured in" a link to that section, as Markdown or (``html``) HTML;
+    ``root`` is the way from the table's document to the repository's root
+    ("" for the README, "../" for a notebook)."""
+    frame = frame.copy()
+    frame["where"] = [", ".join(link(reference, f"{root}{REPORT_PAGE}#"
+                                     f"{anchor(report_heading(reference))}", html)
+                                for reference in where.split(", ")) for where in frame["where"]]
+    if "measured in" in frame:
+        frame["measured in"] = [
+            link(f"{notebook[:2]}: {section}", f"{root}notebooks/{notebook}.ipynb#"
+                 f"{section_anchor(notebook, section)}", html)
+            for notebook, section in frame["measured in"]]
+    return frame
+
+
 def table_html(frame, raw=()):
     """A table as JupyterLab shows it: left-aligned text that wraps at word
     breaks (inline styles: JupyterLab drops the style sheets of untrusted
-    outputs), its notation readable (:func:`outputs.readable`); the columns
-    in ``raw`` are HTML already."""
+    outputs), its notation readable (:func:`readable`: JupyterLab's MathJax
+    typesets the formulas); the columns in ``raw`` are HTML already."""
     style = 'style="text-align: left; vertical-align: top"'
     head = "".join(f"<th {style}>{escape(c)}</th>" for c in frame.columns)
 
     def cell(column, value):
-        return str(value) if column in raw else escape(outputs.readable(str(value)))
+        return str(value) if column in raw else escape(readable(str(value)))
 
     rows = "".join("<tr>" + "".join(f"<td {style}>{cell(c, v)}</td>"
                                     for c, v in zip(frame.columns, values)) + "</tr>"

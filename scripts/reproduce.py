@@ -4,7 +4,15 @@ since it last ran here (rewriting its .ipynb outputs, data/ and figures/;
 ``scripts/freshness.py`` decides, on contents), one line per notebook with
 its wall time, then the paper and the website if what they are built from
 changed, and a one-line count of the claims' verdicts.  A failing notebook
-stops the run.
+stops the run (exit status 1).
+
+Then every file the run rewrote is compared with the committed one (git
+HEAD), by the rules ``make test`` applies (``tests/reproduction.py``), in a
+few lines per kind of output: how many identical, how many within tolerance
+(with the largest difference), which beyond (``scripts/rerun_report.py``).
+The exit status is 3 when an output is beyond tolerance while the sources it
+is made from are HEAD's (a failed reproduction), else 0; the files stay as
+written either way.  A run that reran nothing says so and compares nothing.
 
 The notebooks are independent, except those in ``LAST``, which read what the
 others write: they run after them, whenever one of the others ran.  The
@@ -13,7 +21,9 @@ others run ``JOBS`` at a time (each in its own kernel), longest first
 they finish in.  A notebook in ``LAST`` starts its kernel and runs its first
 code cell (imports only: it must not read data/) at once, beside the others,
 and its other cells when they are done: the one step that must wait does
-not also wait for a kernel to start."""
+not also wait for a kernel to start.  Its "started" line is printed when
+those other cells begin, so that the lines follow the work, and its time
+counts from then."""
 
 import asyncio
 import os
@@ -28,6 +38,7 @@ from nbclient import NotebookClient
 from nbclient.exceptions import CellExecutionError
 
 import freshness
+import rerun_report
 
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.py"))
@@ -48,17 +59,18 @@ README_TABLES = {"claims": "claims", "errata": "errata"}
 
 
 def readme_frame(name, frame):
-    """The columns of data/NAME.csv the README shows, in readable notation:
-    the claims one line each (:func:`claims.glance`, with a link to the
-    notebook section that measures each; the measurements stay in the CSV),
-    the errata whole."""
+    """The columns of data/NAME.csv the README shows, in readable notation
+    with the formulas as math (:func:`claims.readable`): the claims one line
+    each (:func:`claims.glance`; the measurements stay in the CSV), the
+    errata whole; each reference of "where" a link to the report page, each
+    notebook section of "measured in" a link to its heading
+    (:func:`claims.with_links`)."""
     import claims
-    import outputs
     if name == "claims":
         frame = claims.glance(frame)
-        frame["measured in"] = [f"[{n[:2]}: {s}](notebooks/{n}.ipynb)"
-                                for n, s in frame["measured in"]]
-    return frame.map(lambda v: outputs.readable(str(v)))
+    text = [column for column in frame.columns if column not in ("where", "measured in")]
+    frame = frame.assign(**{c: frame[c].map(lambda v: claims.readable(str(v))) for c in text})
+    return claims.with_links(frame)
 
 
 def markdown_table(frame):
@@ -81,14 +93,29 @@ def readme_with_tables(text, data_dir):
     return text
 
 
+class _Started:
+    """Prints "<notebook>: started" the first time it is called (unless
+    ``quiet``), in one write: several threads print."""
+
+    def __init__(self, script, quiet=False):
+        self.script, self.done = script, quiet
+
+    def __call__(self):
+        if not self.done:
+            self.done = True
+            sys.stdout.write(f"{self.script.relative_to(ROOT)}: started\n")
+            sys.stdout.flush()
+
+
 class _HeldClient(NotebookClient):
     """A notebook client that runs the first code cell at once and waits
     for ``ready`` (a ``threading.Event``) before any later one; if
-    ``abandon`` is set by then, it stops there."""
+    ``abandon`` is set by then, it stops there, else it calls ``started()``
+    (a :class:`_Started`) and runs them."""
 
-    def __init__(self, notebook, ready, abandon, **kwargs):
+    def __init__(self, notebook, ready, abandon, started=lambda: None, **kwargs):
         super().__init__(notebook, **kwargs)
-        self.ready, self.abandon = ready, abandon
+        self.ready, self.abandon, self.started = ready, abandon, started
         self.first_code = next(i for i, c in enumerate(notebook.cells) if c.cell_type == "code")
 
     async def async_execute_cell(self, cell, cell_index, *args, **kwargs):
@@ -96,6 +123,8 @@ class _HeldClient(NotebookClient):
             await asyncio.to_thread(self.ready.wait)
         if self.abandon.is_set():
             raise _Abandoned
+        if cell_index > self.first_code:
+            self.started()
         return await super().async_execute_cell(cell, cell_index, *args, **kwargs)
 
 
@@ -103,10 +132,10 @@ class _Abandoned(Exception):
     """A notebook held for the others' data, given up when one failed."""
 
 
-def execute(script, output_root=None, ready=None, abandon=None):
+def execute(script, output_root=None, ready=None, abandon=None, started=lambda: None):
     """Execute the percent script ``script`` and return the executed notebook.
     With ``ready`` (and ``abandon``), hold every cell after the first code
-    cell until ``ready`` is set (:class:`_HeldClient`)."""
+    cell until ``ready`` is set, then call ``started()`` (:class:`_HeldClient`)."""
     notebook = jupytext.read(script)
     for index, cell in enumerate(notebook.cells):  # stable ids: no diff noise
         cell.id = f"cell-{index:02d}"
@@ -129,7 +158,7 @@ def execute(script, output_root=None, ready=None, abandon=None):
     if ready is None:
         client = NotebookClient(notebook, **options)
     else:
-        client = _HeldClient(notebook, ready, abandon, **options)
+        client = _HeldClient(notebook, ready, abandon, started, **options)
     client.execute(env=env)
     for cell in notebook.cells:
         cell_outputs = cell.get("outputs", [])
@@ -158,18 +187,21 @@ def _coalesced(cell_outputs):
 
 
 def _timed(script, output_root, ready=None, abandon=None):
-    """(notebook, error, seconds); a held notebook's seconds count from
-    ``ready``, when it could first read the others' data."""
+    """(notebook, error, seconds), with a "started" line when it starts its
+    work if it writes here (``output_root`` None); a held notebook's work
+    starts at its second code cell, and its seconds count from ``ready``,
+    when it could first read the others' data."""
     start = time.perf_counter()
-    if output_root is None:
-        sys.stdout.write(f"{script.relative_to(ROOT)}: started\n")  # one write: two threads
-        sys.stdout.flush()
+    started = _Started(script, quiet=output_root is not None)
+    if ready is None:
+        started()
     try:
-        notebook = execute(script, output_root, ready, abandon)
+        notebook = execute(script, output_root, ready, abandon, started)
     except CellExecutionError as error:
         return None, error, time.perf_counter() - start
     except _Abandoned:
         return None, None, 0.0
+    started()  # a held notebook with a single code cell: said at its end
     if ready is not None:
         start = max(start, ready.time)
     return notebook, None, time.perf_counter() - start
@@ -251,19 +283,22 @@ def _site_sources():
 
 def build_if_stale(state, name, sources, build, output):
     """Run ``build()`` (which returns a line to print) if ``name`` is not up
-    to date, and record it with its ``output`` file; else say so."""
+    to date, and record it with its ``output`` file; else say so.  Returns
+    whether it ran."""
     why = state.why_stale(name, sources, common=False)
     if why is None:
         print(f"{output.relative_to(ROOT)}: up to date", flush=True)
-        return
+        return False
     before = state.before(sources, common=False)
     print(build(), f"({why})", flush=True)
     state.record(name, sources, outputs=[output], common=False, before=before)
+    return True
 
 
 def main(names=()):
     """Run the notebooks :func:`to_run` chooses, then the paper and the site
-    if what they are built from changed."""
+    if what they are built from changed; compare what was written with the
+    committed files (:func:`rerun_report.report`, which gives the exit status)."""
     import paper
     import build_site
     total = time.perf_counter()
@@ -275,7 +310,7 @@ def main(names=()):
     chosen = to_run(state, names)
     if chosen:  # the machine the data are made on: an output of every run below
         paper.MACHINE.write_text(paper.machine_description())
-    before = {}
+    before, written = {}, []
     for script, why in chosen:
         print(f"{script.relative_to(ROOT)}: runs ({why})", flush=True)
         before[script] = state.before([script])
@@ -289,6 +324,7 @@ def main(names=()):
         reads, writes = freshness.read_manifest(manifest_path(script))
         state.record(script.stem, [script], reads, [*writes, target, paper.MACHINE],
                      before=before[script])
+        written += [*writes, target, paper.MACHINE]
         print(f"{script.relative_to(ROOT)}: {seconds:5.1f} s", flush=True)
     if chosen:
         print(f"{len(chosen)} notebooks run: {time.perf_counter() - total:5.1f} s "
@@ -296,8 +332,9 @@ def main(names=()):
     # The README's tables are data/'s, whatever edited them.
     README.write_text(readme_with_tables(README.read_text(), ROOT / "data"))
     paper.FIGURE_SOURCES.write_text(paper.figure_sources())
-    build_if_stale(state, "paper", _paper_sources(),
-                   lambda: f"paper/splinestep.pdf: built in {paper.build():.1f} s", paper.PDF)
+    if build_if_stale(state, "paper", _paper_sources(),
+                      lambda: f"paper/splinestep.pdf: built in {paper.build():.1f} s", paper.PDF):
+        written.append(paper.PDF)
     build_if_stale(state, "site", _site_sources(), lambda: "build/site/index.html: "
                    "{1} pages built in {0:.1f} s".format(*build_site.build()),
                    build_site.SITE)
@@ -311,7 +348,8 @@ def main(names=()):
           "notebooks/*.ipynb; the claims table: README.md and data/claims.csv; the paper: "
           "paper/splinestep.pdf; the website: build/site/index.html "
           f"({time.perf_counter() - total:.1f} s in all)")
-    return 0
+    print()
+    return rerun_report.report(written)
 
 
 if __name__ == "__main__":

@@ -1,8 +1,9 @@
 """How the website reads the notebooks and the paper's captions.
 
 :func:`read` is the reader ``conf.py`` gives myst-nb for ``.ipynb`` files:
-the stored notebook, its HTML outputs' links to other notebooks leading to
-their pages, with every code cell longer than :data:`SHOWN_LINES`
+the stored notebook, its HTML outputs' links to other notebooks and pages
+leading to their pages and their formulas in the site's delimiters
+(:func:`site_html`), with every code cell longer than :data:`SHOWN_LINES`
 lines collapsed behind a "show code" toggle (its outputs stay in view), and
 each figure a notebook writes given the paper's caption for it, as caption
 and as alt text.  Nothing is executed.
@@ -66,6 +67,17 @@ def captions(paper=PAPER):
     return found
 
 
+def site_html(html):
+    """An HTML output as the site shows it: its links to notebooks and
+    Markdown pages (``02_cannonball.ipynb#figure-3``,
+    ``../website/report.md#eq-9``) lead to their pages, and its formulas
+    between dollars, which JupyterLab's MathJax typesets, are written
+    between \\( and \\), which the site's MathJax 2 reads."""
+    html = re.sub(r'href="([^":#]+)\.(?:ipynb|md)(#[^"]*)?"',
+                  lambda m: f'href="{m[1]}.html{m[2] or ""}"', html)
+    return re.sub(r"\$([^$<>]+)\$", r"\\(\1\\)", html)
+
+
 def read(text, path=None):
     """The notebook in ``text`` (ipynb JSON) as the site shows it."""
     notebook = nbformat.reads(text, as_version=4)
@@ -75,9 +87,8 @@ def read(text, path=None):
             continue
         for output in cell.get("outputs", []):
             html = output.get("data", {}).get("text/html")
-            if html:  # links between notebooks lead to their pages
-                text = "".join(html) if isinstance(html, list) else html
-                output["data"]["text/html"] = re.sub(r'href="(\d\d_\w+)\.ipynb"', r'href="\1.html"', text)
+            if html:
+                output["data"]["text/html"] = site_html("".join(html) if isinstance(html, list) else html)
         tags = cell.metadata.setdefault("tags", [])
         if len(cell.source.splitlines()) > SHOWN_LINES and "hide-input" not in tags:
             tags.append("hide-input")
