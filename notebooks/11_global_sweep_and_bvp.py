@@ -8,6 +8,7 @@
 
 # %%
 import sys
+import textwrap
 
 import numpy as np
 import pandas as pd
@@ -30,12 +31,15 @@ ellipse = cases["cannonball mu=0.6"]
 # relations of each interval and the collocation at each knot, $3m$ unknowns
 # per knot, by Newton's method with a sparse LU (SuperLU in its natural
 # order keeps the band of the block-bidiagonal Jacobian).  It starts from one
-# fixed-point sweep per step.  The counts below are every call the solves
-# make (`tests/test_improvements.py` counts them from outside): the global
-# one includes its starting sweep with that sweep's step-size check ($2m+1$
-# evaluations of $F$ at each of three states); the stepwise one includes the
-# check of $F$ and the Jacobian at $t_0$ and its step-size check (three
-# Jacobians).
+# fixed-point sweep per step.
+#
+# We solve three problems both ways, globally and step by step with
+# Newton's method, and count every call each solve makes
+# (`tests/test_improvements.py` counts them from outside).  The counts
+# include the checks the solvers make: the global solve's starting sweep
+# has its step-size check ($2m+1$ evaluations of $F$ at each of three
+# states); the stepwise Newton checks $F$ and the Jacobian at $t_0$, and its
+# step-size check evaluates three Jacobians.
 
 # %%
 global_rows = []
@@ -52,37 +56,31 @@ for name, problem in global_cases.items():
                             max_difference=np.max(np.abs(whole.y - stepwise.y))))
 global_table = pd.DataFrame(global_rows)
 outputs.save_data(global_table, "global-sweep")
-print(outputs.wrapped(
-    "evaluations of F and of the analytic Jacobian (finite-difference Jacobian columns are "
-    "evaluations of F), global / stepwise Newton:"))
-for row in global_table.itertuples():
-    print(outputs.wrapped(
-        f"{row.problem:<20} {row.knots} knots, Jacobian {row.jacobian}: "
-        f"{row.newton_iterations} global Newton iterations; F {row.nfev} / {row.nfev_stepwise} "
-        f"= {row.nfev / row.nfev_stepwise:.2f}, Jacobian {row.njev} / {row.njev_stepwise}; "
-        f"largest difference from the stepwise solution {outputs.plain(row.max_difference, 1)}"))
-analytic = global_table[global_table.jacobian == "analytic"]
-differenced = global_table[global_table.jacobian != "analytic"]
-
-# %%
-print(outputs.wrapped(
-    f"global Newton iterations {global_table.newton_iterations.min()} to "
-    f"{global_table.newton_iterations.max()}; largest difference from the stepwise solutions "
-    f"{global_table.max_difference.max():.0e}; stepwise Newton's Jacobians beyond the checks: "
-    f"{analytic.njev_stepwise.max() - 4}"))
+pd.DataFrame({
+    "knots": global_table.knots, "Jacobian": global_table.jacobian,
+    "Newton iterations": global_table.newton_iterations,
+    "F, global / stepwise": [f"{a} / {b} = {a / b:.2f}" for a, b in
+                             zip(global_table.nfev, global_table.nfev_stepwise)],
+    "Jacobians, global / stepwise": [f"{a} / {b}" for a, b in
+                                     zip(global_table.njev, global_table.njev_stepwise)],
+    "largest difference": global_table.max_difference.map(lambda v: outputs.plain(v, 1)),
+}).set_axis(global_table.problem).rename_axis(None)
 
 # %% [markdown]
-# The global solve gives the stepwise solution to $7 \times 10^{-13}$ in 2
-# to 3 Newton iterations, each of which evaluates $F$ and its Jacobian at
-# every knot.  With an analytic Jacobian it spends 1.3 to 1.5 times the
-# stepwise evaluations of $F$ and one Jacobian per knot and iteration
-# (15,004 and 803 with the check of the Jacobian at $t_0$) where the
-# stepwise Newton's kept matrix needs 1 per run
-# (its count, 5, includes the check of the Jacobian at $t_0$ and the three
-# of the step-size check); with a finite-difference Jacobian, whose columns
-# are evaluations of $F$, about 7.4 times the stepwise evaluations; and a
-# sparse factorisation of the whole trajectory at every iteration.  On one
-# processor it does not pay (`make bench` times it).  What it would need is
+# The global solve gives the stepwise solution, to $7 \times 10^{-13}$, in 2
+# to 3 Newton iterations.  Each iteration evaluates $F$ and its Jacobian at
+# every knot, and that is its cost.
+#
+# With an analytic Jacobian it spends 1.33 to 1.51 times the stepwise
+# evaluations of $F$, and one Jacobian per knot and iteration (15,004 and
+# 803 with the check at $t_0$), where the stepwise Newton's kept matrix is
+# built once per run (its count, 5, includes the check at $t_0$ and the three
+# of the step-size check).  With a finite-difference Jacobian, whose columns
+# are evaluations of $F$, it spends 7.40 times the stepwise evaluations.  And
+# it factorises the sparse matrix of the whole trajectory at every
+# iteration.
+#
+# On one processor it does not pay (`make bench` times it).  It would need
 # the structure of parallel-in-time methods: the knots' evaluations and the
 # factorisation split over processors, as in parareal and
 # multigrid-reduction-in-time, with a cheap coarse propagator for the
@@ -92,17 +90,19 @@ print(outputs.wrapped(
 # %% [markdown]
 # ## Boundary value problems
 # The same equations with $y$ given at both ends instead of $y$ and $y'$ at
-# the start: `splinestep.solve_bvp(fun, x, ya, yb)`.  The Bratu problem
-# $y'' + \lambda e^y = 0$, $y(0) = y(1) = 0$, $\lambda = 1$, has two
-# solutions, $y = -2\ln\left(\cosh((x - \tfrac12)\theta/2)/\cosh(\theta/4)\right)$
+# the start: `splinestep.solve_bvp(fun, x, ya, yb)`.
+#
+# The Bratu problem $y'' + \lambda e^y = 0$, $y(0) = y(1) = 0$,
+# $\lambda = 1$, has two solutions,
+# $y = -2\ln\left(\cosh((x - \tfrac12)\theta/2)/\cosh(\theta/4)\right)$
 # for the two roots of $\theta = \sqrt{2\lambda}\cosh(\theta/4)$; the
-# guesses $0.1\sin\pi x$ and $4\sin\pi x$ find one each.  Beside it, scipy's
-# `solve_bvp` (fourth-order collocation with mesh refinement, tol $10^{-8}$)
-# from the same mesh and guesses.  Its default node limit (1000) stops most
-# upper-branch runs before they meet the tolerance (status 1, counted below);
-# here it may use up to 100,000 nodes, and the table reports the status and
-# the nodes it used.  Both errors are measured on the same 2001 equally spaced points
-# (between the knots: the spline's and scipy's own interpolants).
+# guesses $0.1\sin\pi x$ and $4\sin\pi x$ find one each.  We solve it on
+# meshes of 11 to 1281 equally spaced points.
+#
+# Beside it, scipy's `solve_bvp` (fourth-order collocation with mesh
+# refinement, tol $10^{-8}$) from the same meshes and guesses, allowed up to
+# 100,000 nodes.  Both errors are measured on the same 2001 equally spaced
+# points (between the knots: the spline's and scipy's own interpolants).
 
 # %%
 SCIPY_MAX_NODES = 100_000
@@ -128,25 +128,34 @@ for branch, amplitude in (("lower", 0.1), ("upper", 4.0)):
 bvp_table = pd.DataFrame(bvp_rows)
 outputs.save_data(bvp_table, "bvp-bratu")
 
+# %% [markdown]
+# The order of the spline collocation, fitted over all meshes and from each
+# pair of successive errors (the step halves), and what scipy's runs used
+# and reached:
+
 # %%
 bvp_orders = {b: np.polyfit(np.log(g.h), np.log(g.error), 1)[0]
               for b, g in bvp_table.groupby("branch")}
 # Second way: the order from the ratio of successive errors (the step halves).
 bvp_successive = {b: np.log2(g.error.to_numpy()[:-1] / g.error.to_numpy()[1:])
                   for b, g in bvp_table.groupby("branch")}
-# Accuracy per node: our error interpolated at the nodes scipy used, over scipy's error.
-per_node = np.concatenate([
-    diagnostics.loglog_interp(g.points, g.error, g.scipy_points) / g.scipy_error
-    for _, g in bvp_table.groupby("branch")])
 for b, g in bvp_table.groupby("branch"):
+    iterations = sorted(set(g.newton_iterations))
     print(outputs.wrapped(
         f"{b} branch: fitted order {bvp_orders[b]:.2f} (successive errors "
         f"{bvp_successive[b].min():.2f} to {bvp_successive[b].max():.2f}); Newton iterations "
-        f"{g.newton_iterations.min()} to {g.newton_iterations.max()}; error at "
-        f"{g.points.max()} points {outputs.plain(g.error.iloc[-1])}.  scipy: status "
+        f"{' to '.join(str(v) for v in iterations[::max(len(iterations) - 1, 1)])}; error at "
+        f"{g.points.max()} points {outputs.plain(g.error.iloc[-1])}; scipy: status "
         f"{', '.join(str(v) for v in sorted(set(g.scipy_status)))}, {g.scipy_points.min()} to "
         f"{g.scipy_points.max()} nodes, errors {outputs.plain(g.scipy_error.min(), 1)} to "
         f"{outputs.plain(g.scipy_error.max(), 1)}"))
+
+# %% [markdown]
+# Why scipy was given more room than its default node limit (1000): with
+# it, most upper-branch runs stop before they meet the tolerance (status
+# 1).  And, since scipy chooses its own meshes, the two solvers are compared
+# per node: our error, interpolated at the number of nodes scipy used,
+# against scipy's error there.
 
 # %%
 default_limit = [scipy_solve_bvp(lambda s, u: np.vstack([u[1], -np.exp(u[0])]),
@@ -157,20 +166,17 @@ default_limit = [scipy_solve_bvp(lambda s, u: np.vstack([u[1], -np.exp(u[0])]),
 print(outputs.wrapped(
     f"scipy with its default max_nodes = 1000, upper branch from 11 to 321 points: status 1 "
     f"(node limit) in {sum(v == 1 for v in default_limit)} of {len(default_limit)} runs"))
+# Accuracy per node: our error interpolated at the nodes scipy used, over scipy's error.
+per_node = np.concatenate([
+    diagnostics.loglog_interp(g.points, g.error, g.scipy_points) / g.scipy_error
+    for _, g in bvp_table.groupby("branch")])
 per_node_range = [float(f"{v:.0e}") for v in (np.nanmin(per_node), np.nanmax(per_node))]
 print(f"at the nodes scipy used, our error is {outputs.plain(per_node_range[0], 1)} to "
       f"{outputs.plain(per_node_range[1], 1)} times scipy's")
 
-# %%
-linear = splinestep.solve_bvp(lambda t, y, yp: y, np.linspace(0.0, 1.0, 101), 0.0, 1.0,
-                              tol=np.inf)
-linear_error = np.max(np.abs(linear.y[0] - np.sinh(linear.t) / np.sinh(1.0)))
-print(outputs.wrapped(
-    f"y'' = y, y(0) = 0, y(1) = 1 on 101 points: {linear.niter} Newton iterations, error "
-    f"{outputs.plain(linear_error)} (exact sinh x / sinh 1)"))
-no_solution = splinestep.solve_bvp(fun, np.linspace(0.0, 1.0, 41), 0.0, 0.0, args=(4.0,))
-print(f"Bratu with lambda = 4 > {problems.boundary.LAMBDA_CRITICAL:.4f} (no solution): "
-      f"status {no_solution.status}")
+# %% [markdown]
+# The two solutions, and the errors of both solvers against the number of
+# nodes each used:
 
 # %%
 fig, (ax, bx) = plt.subplots(1, 2, figsize=(outputs.WIDTH, 3.6))
@@ -200,29 +206,50 @@ bx.legend(loc="lower left", ncol=2, fontsize=outputs.MIN_FONT)
 outputs.save_figure(fig, "bvp-bratu")
 
 # %% [markdown]
-# Both branches are found from their guesses, at order 2.00 (lower) and
-# 1.99 (upper) in the mesh width, in 4 to 5 Newton iterations; the ratio of
-# successive errors gives 1.96 to 2.00.  scipy's `solve_bvp` is of fourth
-# order and refines its mesh until its residual meets the tolerance: given
-# room (all runs end with status 0), it uses 121 to 1281 nodes and reaches
-# errors of $7 \times 10^{-12}$ to $7 \times 10^{-11}$; at the same number
-# of nodes our error is 800 to $1 \times 10^{5}$ times larger.  scipy is the
-# better solver for this problem, per node and overall; the spline
-# collocation is the simpler method and converges at second order.  A
-# problem without solution (Bratu at $\lambda = 4$) ends with status -1 and
-# a message, not an exception.
+# Both branches are found from their guesses, in 4 (lower) and 5 (upper)
+# Newton iterations on every mesh, at order 2.00 and 1.99 in the mesh width;
+# the ratios of successive errors give 1.96 to 2.00.
+#
+# scipy's `solve_bvp` is of fourth order and refines its mesh until its
+# residual meets the tolerance.  Given room (all runs end with status 0),
+# it uses 121 to 1281 nodes and reaches errors of $7 \times 10^{-12}$ to
+# $7 \times 10^{-11}$; at the same number of nodes our error is 800 to
+# $1 \times 10^{5}$ times larger.  scipy is the better solver for this
+# problem, per node and overall; the spline collocation is the simpler
+# method and converges at second order.
+#
+# Two more checks of the solver: a linear problem with a known solution,
+# $y'' = y$, $y(0) = 0$, $y(1) = 1$ (exact $\sinh x/\sinh 1$), and Bratu at
+# $\lambda = 4$, above the largest $\lambda$ for which a solution exists:
+
+# %%
+linear = splinestep.solve_bvp(lambda t, y, yp: y, np.linspace(0.0, 1.0, 101), 0.0, 1.0,
+                              tol=np.inf)
+linear_error = np.max(np.abs(linear.y[0] - np.sinh(linear.t) / np.sinh(1.0)))
+print(outputs.wrapped(
+    f"y'' = y, y(0) = 0, y(1) = 1 on 101 points: {linear.niter} Newton iterations, error "
+    f"{outputs.plain(linear_error)} (exact sinh x / sinh 1)"))
+bratu_fun = problems.bratu(1.0, "lower")[0]
+no_solution = splinestep.solve_bvp(bratu_fun, np.linspace(0.0, 1.0, 41), 0.0, 0.0,
+                                   args=(4.0,))
+print(f"Bratu with lambda = 4 > {problems.boundary.LAMBDA_CRITICAL:.4f} (no solution): "
+      f"status {no_solution.status}")
+
+# %% [markdown]
+# The linear problem is solved to the method's error on 101 points; the
+# problem without solution ends with status -1 and a message, not an
+# exception.
 
 # %% [markdown]
 # ### A tolerance on the solution
 # Newton's method converging says only that the equations of one mesh are
 # solved.  `solve_bvp(..., tol=)` also estimates the error of $y$: it solves
 # again on the mesh with every interval halved, and, the method being of
-# order 2, takes $\tfrac43 (y_h - y_{h/2})$ as the error of $y_h$; while that
+# order 2, takes $\tfrac43 (y_h - y_{h/2})$ as the error of $y_h$.  While that
 # exceeds tol (relative to $\max(1, \max|y|)$) it halves the mesh, up to
-# `max_nodes`.  Below, the lower Bratu branch from 11 points, and the
-# resonant problem $y'' = -y$, $y(0) = 0$, $y(\pi) = 1$, which has no solution
-# ($\sin$ vanishes at both ends): every mesh up to 1281 points has a
-# discrete solution, and Newton converges on each.
+# `max_nodes`.
+#
+# The lower Bratu branch, from 11 points, at three tolerances:
 
 # %%
 fun, jac, args, exact = problems.bratu(1.0, "lower")
@@ -238,8 +265,37 @@ bvp_tolerance.assign(tol=bvp_tolerance.tol.map("{:.0e}".format),
                      estimated_error=bvp_tolerance.estimated_error.map("{:.2e}".format),
                      true_error=bvp_tolerance.true_error.map("{:.2e}".format))
 
+# %% [markdown]
+# The estimate is the true error to the three digits shown, and each run
+# stops on the first mesh whose error is below its tolerance: 11 points are
+# already enough for $10^{-3}$, 161 and 5121 are needed for $10^{-6}$ and
+# $10^{-9}$ (the lower branch's $|y|$ stays below 1, so tol is absolute
+# here).
+#
+# ### When the mesh does not converge
+# The resonant problem $y'' = -y$, $y(0) = 0$, $y(\pi) = 1$ has no solution
+# ($\sin$ vanishes at both ends).  Yet every mesh has a discrete solution,
+# and Newton converges on each: only the refinement can tell.
+
 # %%
 resonant = splinestep.solve_bvp(lambda x, y, yp: -y, np.linspace(0.0, np.pi, 11), 0.0, 1.0)
-print(f"y'' = -y, y(0) = 0, y(pi) = 1: status {resonant.status}, {resonant.t.size} mesh "
-      f"points, max |y| = {outputs.plain(np.max(np.abs(resonant.y)), 1)}")
-print(outputs.wrapped(resonant.message))
+print(f"status {resonant.status} on {resonant.t.size} mesh points, "
+      f"max |y| = {outputs.plain(np.max(np.abs(resonant.y)), 1)}; the solver's message:")
+print(textwrap.indent(textwrap.fill(resonant.message, 90), "    "))
+
+# %% [markdown]
+# The discrete solutions grow as the mesh is refined, to
+# $\max|y| = 3 \times 10^{5}$ on 641 points, and so do the estimates of
+# their error: $3.2 \times 10^{5}$, then $1.3 \times 10^{6}$, where a
+# converging solution's would fall fourfold per halving.  The solver stops
+# at the node limit with status -1 and says why: the problem may have no
+# solution near the guess.  It returns a failure with its reason, not a
+# large number that looks like an answer.
+#
+# **What to take away.**  Solving all knots at once gives the stepwise
+# solution but costs more than stepping on one processor; its use is where
+# stepping cannot go, boundary value problems.  There the spline
+# collocation finds both Bratu solutions and converges at second order, but
+# scipy's fourth-order `solve_bvp` is far more accurate per node.  The
+# tolerance on the solution holds where the solutions converge with the
+# mesh, and where they do not, the run says so.
