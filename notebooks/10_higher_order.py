@@ -18,7 +18,8 @@ sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/
 import outputs
 import splinestep
 from splinestep import problems
-from splinestep.analysis import diagnostics
+from splinestep import check
+from splinestep.analysis import diagnostics, long_time
 from splinestep.analysis.extrapolation import richardson
 
 plt = outputs.setup()
@@ -103,55 +104,48 @@ print(f"the order-6 run at dt = 0.01: {7 * (round(50 / 0.01) - 2) + 2 * 25} sub-
 # sub-steps), not the order.
 
 # %% [markdown]
-# ### Long time, and the cost against the other routes
-# The ellipse over 10,000 orbits, sampled over whole orbits at
-# logarithmically spaced orbit numbers and at each method's own steps, as in
-# notebook 08, at $h = 0.08$ (the
-# largest step of the work-precision panel below): the report's method, the
-# order-4 composition, and RK4 at the composition's work (its step stretched
-# to spend the same evaluations); energy error and position error against
-# the exact orbit (Kepler's equation).  Then the work against precision over
-# $t \in [0, 50]$, $h = 0.08 \dots 0.005$: the compositions, Richardson
-# extrapolation of the report's method ($(4 y_{h/2} - y_h)/3$,
-# `splinestep.analysis.extrapolation`), RK4 and DOP853.
+# ### Long time: 10,000 orbits
+# The ellipse over 10,000 orbits at $h = 0.08$ (the largest step of the
+# work-precision panel below): the report's method, the order-4
+# composition, and RK4 at the composition's work (its step stretched to
+# spend the same evaluations).  As in notebook 08, each run is sampled over
+# whole orbits at logarithmically spaced orbit numbers, at 64 of its own
+# steps per sampled orbit.  Each spline run ends with its step-size check
+# (`splinestep.check`), whose verdict we print with the run.
 
 # %%
 period_ellipse = problems.orbit_elements(0.6)["period"]
-LONG_ORBITS = 10_000
+LONG_ORBITS, LONG_STEP = 10_000, 0.08
 windows = np.unique(np.round(np.logspace(0, np.log10(LONG_ORBITS), 17)).astype(int)) - 1
-# 64 sample times per sampled orbit, half a sample from its ends; each run is
-# sampled at the nearest of its own steps (never on the interpolant between).
-wanted = ((windows[:, None] + (np.arange(64)[None, :] + 0.5) / 64) * period_ellipse).ravel()
+wanted = long_time.orbit_sample_times(windows, 64, period_ellipse)
 t_long = LONG_ORBITS * period_ellipse
-energy_ellipse = ellipse.invariants["energy"]
-LONG_STEP = 0.08
-
-
-def at_steps(step):
-    """The wanted sample times moved to the nearest multiple of ``step``."""
-    return step * np.round(wanted / step)
-
-
-# %%
-long_runs, flagged = {}, []
+long_runs, check_sums = {}, {}
 for order in (2, 4):
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")     # the check's verdict is printed below
-        long_runs[f"spline, order {order}"] = splinestep.solve(
-            ellipse.fun, (0.0, t_long), ellipse.y0, ellipse.yp0, LONG_STEP, args=ellipse.args,
-            order=order, t_eval=at_steps(LONG_STEP))
-    if any("too large" in str(w.message) for w in caught):
-        flagged.append(f"order {order}")
-print(outputs.wrapped(
-    f"runs the step-size check flags (their local errors sum to more than 0.3 of the "
-    f"orbit over 10,000 orbits): {', '.join(flagged) or 'none'}"))
-per_step_4 = long_runs["spline, order 4"].nfev / (t_long / LONG_STEP)
-rk4_step = 4 * LONG_STEP / per_step_4
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")   # the check's verdict is in the result's message
+        res = splinestep.solve(ellipse.fun, (0.0, t_long), ellipse.y0, ellipse.yp0, LONG_STEP,
+                               args=ellipse.args, order=order,
+                               t_eval=long_time.at_steps(wanted, LONG_STEP))
+    long_runs[f"spline, order {order}"] = res
+    found = check_sums[order] = long_time.accumulated_estimate(res)
+    print(outputs.wrapped(f"order {order}: " + ("the sum not flagged" if found is None else
+          f"flagged; estimates summed over the run {found['sum_y']:g} in y, {found['sum_yp']:g} "
+          f"in y' (max |y| = {found['y_scale']:g}, max |y'| = {found['yp_scale']:g})")))
+rk4_step = 4 * LONG_STEP / (long_runs["spline, order 4"].nfev / (t_long / LONG_STEP))
 long_runs["RK4, same work"] = splinestep.rk4(
     ellipse.fun, (0.0, t_long), ellipse.y0, ellipse.yp0, rk4_step, args=ellipse.args,
-    t_eval=at_steps(rk4_step))
+    t_eval=long_time.at_steps(wanted, rk4_step))
+
+# %% [markdown]
+# The check flags both spline runs: the local errors it estimates at every
+# step add up, over the 10,000 orbits, to more than 0.3 of the solution's
+# size in $y'$.  Its warning says that, unless the equation damps them, the
+# solution is off by as much.  Whether it is, we measure below against the
+# exact orbit.  First what the runs give: the largest energy error and
+# position error in each sampled orbit.
 
 # %%
+energy_ellipse = ellipse.invariants["energy"]
 long_energy = []
 for method, res in long_runs.items():
     windowed = {
@@ -174,16 +168,18 @@ for method, g in growth.items():
         f"{outputs.plain(g.position_error.loc[100])} in orbit 100, "
         f"{outputs.plain(g.position_error.iloc[-1])} in orbit {LONG_ORBITS}"))
 
+# %% [markdown]
+# The energy error of both spline runs stays where it starts (growth
+# exponents 0.00); RK4 at the same work starts far lower and drifts
+# (exponent 0.96).  The position errors all grow, as the phase drifts, to
+# the size of the orbit (semi-major axis 3) by orbit 10,000.  Where RK4's
+# energy error passes the composition's, two ways: on the sampled curve,
+# and on the line $a + c\,(k - 1)$ fitted to RK4's error in orbit $k$:
+
 # %%
-# The orbit from which RK4's energy error exceeds the composition's largest,
-# two ways: on the sampled curve (log-log), and from the line a + c (k - 1)
-# fitted to RK4's error in orbit k (it drifts linearly from the first orbit).
 level_4 = growth["spline, order 4"].energy_error.max()
 rk4_long = growth["RK4, same work"]
-above = np.flatnonzero(rk4_long.energy_error.to_numpy() > level_4)
-crossing_sampled = (diagnostics.loglog_interp(
-    rk4_long.energy_error.iloc[above[0] - 1:above[0] + 1],
-    rk4_long.index[above[0] - 1:above[0] + 1], [level_4])[0] if above.size else np.nan)
+crossing_sampled = long_time.crossing(rk4_long.index, rk4_long.energy_error, level_4)
 rk4_drift, rk4_start = np.polyfit(rk4_long.index - 1, rk4_long.energy_error, 1)
 crossing_fitted = 1 + (level_4 - rk4_start) / rk4_drift
 print(outputs.wrapped(
@@ -192,6 +188,80 @@ print(outputs.wrapped(
     f"{outputs.round_sig(crossing_sampled, 3):.0f} (sampled curve) or "
     f"{outputs.round_sig(crossing_fitted, 3):.0f} (fitted line)"))
 position_ratio = (rk4_long.position_error / growth["spline, order 4"].position_error)
+print(outputs.wrapped(
+    f"energy level: order 2 / order 4 "
+    f"{growth['spline, order 2'].energy_error.max() / level_4:.0f}; RK4 / order 4 at orbit "
+    f"{LONG_ORBITS}: {rk4_long.energy_error.iloc[-1] / level_4:.1f}; position error, order 4 / "
+    f"RK4: {1 / position_ratio.iloc[0]:.0f} in the first orbit, "
+    f"{1 / position_ratio.loc[100]:.0f} in orbit 100"))
+
+# %% [markdown]
+# The composition's energy error is 356 times lower than the report's
+# method's.  RK4 passes it only from orbit 4290, and at orbit 10,000 its
+# energy error is 2.3 times the composition's.  The position error favours
+# RK4: at the same work it is 792 times smaller in the first orbit and 78
+# times in orbit 100.
+#
+# Now the check's verdict.  Its threshold is 0.3 of the solution's size:
+# on the exact orbit $0.3 \max|y|$ and $0.3 \max|y'|$.  We find the orbit
+# where each run's error in $y$ and in $y'$ passes it (interpolated
+# between the sampled orbits, `long_time.crossing`), and the orbit where
+# the check's sum passes it (the sum grows by the same amount every orbit).
+
+# %%
+exact_y, exact_yp = ellipse.reference(np.linspace(0.0, period_ellipse, 4001))
+threshold = {"y": check.ACCUMULATED_FRACTION * np.max(np.abs(exact_y)),
+             "yp": check.ACCUMULATED_FRACTION * np.max(np.abs(exact_yp))}
+print(f"threshold: {threshold['y']:.2f} in y, {threshold['yp']:.2f} in y'")
+for method, res in long_runs.items():
+    y_ref, yp_ref = ellipse.reference(res.t)
+    errors = {"y": np.max(np.abs(res.y - y_ref), axis=0),
+              "yp": np.max(np.abs(res.yp - yp_ref), axis=0)}
+    per_orbit = {k: v.reshape(windows.size, 64).max(axis=1) for k, v in errors.items()}
+    passes = {k: long_time.crossing(windows + 1, per_orbit[k], threshold[k]) for k in errors}
+    found = check_sums.get(int(method[-1])) if method.startswith("spline") else None
+    if found is None:
+        by_sum = ""
+    else:   # the sum grows by the same amount every orbit
+        by_sum = LONG_ORBITS * found["fraction"] * found["yp_scale"] / found["sum_yp"]
+        by_sum = f"; the check's sum near orbit {outputs.round_sig(by_sum, 2):,g}"
+    print(outputs.wrapped(
+        f"{method}: past the threshold in y near orbit {outputs.round_sig(passes['y'], 2):,g}, "
+        f"in y' near orbit {outputs.round_sig(passes['yp'], 2):,g}{by_sum}; in orbit "
+        f"{LONG_ORBITS}: {per_orbit['y'][-1]:.2g} in y, {per_orbit['yp'][-1]:.2g} in y'"))
+
+# %% [markdown]
+# The flag is a true alarm, not a false one: all three runs end further off
+# than the check's threshold, by 7.1, 4.2 and 4.3 in $y$ (against 1.50) and
+# 0.97, 1.1 and 1.1 in $y'$ (against 0.30).  The Kepler problem damps
+# nothing; it is conservative, and a run's error of the period turns into a
+# phase error that grows with every orbit until the computed body is
+# anywhere on the orbit.
+#
+# It is not a sharp alarm.  The report's method is off by more than the
+# threshold in $y'$ near orbit 2.9, long before the check's sum reaches it
+# near orbit 230: a sum of local errors does not see an error that the
+# orbit amplifies (the check's documentation, `splinestep.check`, says
+# so).  The composition passes the threshold in $y'$ only near orbit 710:
+# for order 4 the check sums the estimates of one cubic step of the
+# composed step's size, that is the local errors of the report's method
+# (the same 13 in $y'$), not those of the composition, which are far
+# smaller.  A run of the composition that ends between orbits 230 and 710
+# would be flagged while within the threshold: a false alarm there.
+#
+# For the comparison this means: the position errors at orbit 10,000 are
+# those of three runs that have all lost the phase, and tell nothing of the
+# methods; the first orbit and orbit 100 do.  Where RK4's energy error
+# passes the composition's, near orbit 4290, the velocities of both runs
+# are past the threshold (RK4's from orbit 2,500 on): the composition's
+# bounded energy pays only in runs whose phase is lost anyway.
+
+# %% [markdown]
+# ### The cost against the other routes
+# The work against precision over the report's run, $t \in [0, 50]$,
+# $h = 0.08 \dots 0.005$: the compositions, Richardson extrapolation of the
+# report's method ($(4 y_{h/2} - y_h)/3$, `splinestep.analysis.extrapolation`),
+# RK4, and scipy's DOP853 at rtol $10^{-4} \dots 10^{-12}$ (atol = rtol/100).
 
 # %%
 work = []
@@ -207,20 +277,20 @@ for h in (0.08, 0.04, 0.02, 0.01, 0.005):
     res = ellipse.solve("rk4", h=h, t_eval=t_report)
     work.append(dict(method="RK4", setting=h, nfev=res.nfev,
                      max_error=np.max(np.abs(res.y - exact_report))))
-rhs = ellipse.fun.py_func
-
-
-def first_order(t, u):
-    return np.concatenate([u[2:], rhs(t, u[:2], u[2:], *ellipse.args)])
-
-
 for tol in 10.0 ** -np.arange(4, 13):
-    sol = solve_ivp(first_order, (0, 50), np.r_[ellipse.y0, ellipse.yp0], method="DOP853",
-                    rtol=tol, atol=tol * 1e-2, t_eval=t_report)
+    sol = solve_ivp(problems.first_order(ellipse.fun, ellipse.args, 2), (0, 50),
+                    np.r_[ellipse.y0, ellipse.yp0], method="DOP853", rtol=tol, atol=tol * 1e-2,
+                    t_eval=t_report)
     work.append(dict(method="scipy DOP853", setting=tol, nfev=sol.nfev,
                      max_error=np.max(np.abs(sol.y[:2] - exact_report))))
 work = pd.DataFrame(work)
 outputs.save_data(work, "composition-work")
+
+# %% [markdown]
+# From these curves, the ratio of evaluations at equal error, read where
+# both curves of a pair reach (`diagnostics.work_ratio_range`):
+
+# %%
 work_curves = {m: (g.nfev.to_numpy(), g.max_error.to_numpy())
                for m, g in work.groupby("method", sort=False)}
 pairs = [("spline, order 4", "Richardson (order 2 at h, h/2)"), ("spline, order 4", "RK4"),
@@ -233,17 +303,31 @@ for method, baseline in pairs:
 comparison = pd.DataFrame(comparison)
 outputs.save_data(comparison, "composition-ratios")
 
+# %% [markdown]
+# To reach the same error, Richardson extrapolation of the report's method,
+# the classical route to order 4, needs 1.3 to 1.5 times the evaluations of
+# the order-4 composition: the composition wins there.  RK4 needs 0.21 to
+# 0.28 times the evaluations of order 4 (each composed step costs three
+# implicit steps) and 0.98 to 1.6 times those of order 6; DOP853 0.065 to
+# 0.077 times those of order 6.
+#
+# The figure shows both parts: the long run above, the work against
+# precision below.
+
 # %%
 fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0))
 for method, g in growth.items():
     color = outputs.style_of(method)[0]
     ax.loglog(g.index, g.energy_error, "o-", color=color, markersize=4, label=method)
     ax.loglog(g.index, g.position_error, "x:", color=color, markersize=4)
+ax.axhline(threshold["y"], color="0.45", linestyle="--", linewidth=1,
+           label="check's threshold")
 ax.set_xlabel(f"orbit number (ellipse $\\mu = 0.6$; spline $h = {LONG_STEP:g}$)")
 ax.set_ylabel("largest error in the orbit")
 ax.set_title("10,000 orbits: $|H - H_0|$ (o, solid), position error (x, dotted)", loc="left")
 ax.set_ylim(1e-10, 1e4)
-ax.legend(loc="upper center", fontsize=outputs.MIN_FONT, ncol=3)
+ax.legend(loc="upper center", fontsize=outputs.MIN_FONT, ncol=4, handlelength=1.6,
+          columnspacing=0.8)
 short = {"Richardson (order 2 at h, h/2)": "Richardson (2 at h, h/2)", "scipy DOP853": "DOP853"}
 for method, (nfev, error) in work_curves.items():
     color, marker = outputs.style_of(method)
@@ -257,37 +341,21 @@ bx.legend(loc="lower left", fontsize=outputs.MIN_FONT, ncol=3, handlelength=1.6,
           columnspacing=0.8)
 outputs.save_figure(fig, "composition")
 
-# %%
-print(outputs.wrapped(
-    f"energy level: order 2 / order 4 "
-    f"{growth['spline, order 2'].energy_error.max() / level_4:.0f}; RK4 / order 4 at orbit "
-    f"{LONG_ORBITS}: {rk4_long.energy_error.iloc[-1] / level_4:.1f}; position error, order 4 / "
-    f"RK4: {1 / position_ratio.iloc[0]:.0f} in the first orbit, "
-    f"{1 / position_ratio.loc[100]:.0f} in orbit 100"))
-
 # %% [markdown]
-# The order-4 composition keeps the bounded energy error of the report's
-# method over 10,000 orbits, at a level 356 times lower.  RK4 at the same
-# work starts far lower and drifts, and passes the composition's level
-# only from orbit 4290 (the line fitted to its linear drift: 4290); at
-# orbit 10,000 it is 2.3 times the composition's.  The position error,
-# which is what a user of the orbit sees, favours RK4: at the same work it
-# is 792 times smaller in the first orbit and 78 times in orbit 100; both
-# runs have lost the phase by orbit 10,000 (position errors 4.3 and 4.2 on
-# an orbit of semi-major axis 3).  The composition is symmetric but not
-# conjugate to Verlet (its sub-steps differ, so no single change of
-# variables as in notebook 06 applies); its bounded energy is not explained
-# by a conjugacy (reversible methods on integrable problems keep modified
-# invariants nearly constant, Hairer, Lubich and Wanner Ch. XI, which we
-# have not measured here).  To reach the same error over $t \in [0, 50]$,
-# Richardson extrapolation of the report's method, the classical route to
-# order 4, needs 1.3 to 1.5 times the evaluations of the order-4
-# composition: the composition wins there.  RK4 needs 0.21 to 0.28 times
-# the evaluations of order 4 (each composed step costs three implicit
-# steps) and 0.98 to 1.6 times those of order 6; DOP853 0.065 to 0.077
-# times those of order 6.  On this short run DOP853 wins against both
-# compositions and RK4 against order 4, while order 6 costs about what RK4
-# does at low accuracy and less at high; over the long run RK4 stays ahead
-# of order 4 in position until both have lost the phase, and the
-# composition's one advantage over RK4 is an energy error that does not
-# grow, which at this work pays only beyond about 4300 orbits.
+# Above, the two spline runs' energy errors (solid) are level lines, RK4's
+# climbs through the composition's near orbit 4290; the position errors
+# (dotted) all climb to the size of the orbit, through the check's
+# threshold (dashed grey) at the orbits printed above.  Below, on this short run
+# DOP853 wins against both compositions and RK4 against order 4, while
+# order 6 costs about what RK4 does at low accuracy and less at high.
+#
+# The composition is symmetric but not conjugate to Verlet (its sub-steps
+# differ, so no single change of variables as in notebook 06 applies); its
+# bounded energy is not explained by a conjugacy (reversible methods on
+# integrable problems keep modified invariants nearly constant, Hairer,
+# Lubich and Wanner Ch. XI, which we have not measured here).
+#
+# Over the long run RK4 stays ahead of order 4 in position until both have
+# lost the phase, and the composition's one advantage over RK4 is an energy
+# error that does not grow, which at this work pays only beyond about 4300
+# orbits, in runs that the step-size check rightly flags.
