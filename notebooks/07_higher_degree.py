@@ -12,6 +12,7 @@ import sys
 import numpy as np
 import pandas as pd
 import sympy as sp
+from IPython.display import HTML, Math, display
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
@@ -22,7 +23,7 @@ from splinestep.analysis.higher_degree import solve_degree
 
 plt = outputs.setup()
 ellipse = problems.cannonball(0.6)   # the report's ellipse, at its step h = 0.01
-mu, h = 0.6, ellipse.h
+mu, h = 0.6, ellipse.h               # mu: the gravity parameter
 period_T = problems.orbit_elements(mu)["period"]
 
 # %% [markdown]
@@ -32,23 +33,24 @@ period_T = problems.orbit_elements(mu)["period"]
 # knot per step (`splinestep.analysis.higher_degree.solve_degree`; $k = 3$ is the
 # report's method).  The state at a knot is now $p, p', \dots, p^{(k-1)}$,
 # and for $k \ge 4$ the derivatives beyond $p''$ are extra state.  On
-# $y'' = \lambda y + \mu y'$ one step is a linear map; sympy gives its
-# characteristic polynomial as $h \to 0$ (zero-stability), and the same for
-# the first-order analogue ($y' = f$, degree $k - 1$, collocating $p'$),
-# which Loscalzo and Talbot (1967) studied.
+# $y'' = \lambda y - c\, y'$ (damping $c$) one step is a linear map; sympy
+# gives its characteristic polynomial as $h \to 0$ (zero-stability), and
+# the same for the first-order analogue ($y' = f$, degree $k - 1$,
+# collocating $p'$), which Loscalzo and Talbot (1967) studied.
 
 # %%
-rows = []
+rows, lines = [], []
 for k in (3, 4, 5, 6):
     poly = theory.characteristic_at_zero(k)
     first = theory.characteristic_at_zero(k - 1, first_order=True)
     roots = [complex(r) for r in sp.Poly(poly, theory.zeta).nroots()]
-    spurious = [r for r in roots if abs(r - 1) > 1e-9 and abs(r) > 1e-12]
-    largest = max((abs(r) for r in spurious), default=0.0)
+    spurious = [abs(r) for r in roots if abs(r - 1) > 1e-9 and abs(r) > 1e-12]
     rows.append(dict(degree=k, polynomial=str(poly), first_order_polynomial=str(first),
-                     largest_spurious_root=largest))
-    print(outputs.wrapped(f"degree {k}: {poly}   (first order, degree {k - 1}: {first})"))
+                     largest_spurious_root=max(spurious, default=0.0)))
+    lines.append(f"{k} & {theory.latex(poly)} & {k - 1} & {theory.latex(first)}")
 roots_table = pd.DataFrame(rows)
+display(Math(r"\begin{array}{rl|rl} k & y'' = F & k - 1 & y' = f \\ \hline "
+             + r" \\ ".join(lines) + r"\end{array}"))
 
 # %% [markdown]
 # Beyond the double root 1 of $\rho$ and the root 0 (the slaved $p''$),
@@ -60,44 +62,59 @@ roots_table = pd.DataFrame(rows)
 # first-order polynomials have the same spurious factors one degree lower:
 # degree 2 (the trapezoidal rule) and 3 are usable, degree 4 and above
 # diverge, as Loscalzo and Talbot (1967) found for first-order equations
-# $y' = f$.  Degree 4 for second-order
-# equations has a simple root $-1$ on the circle: zero-stable, but only
-# weakly, so we look at what perturbs it.
+# $y' = f$.
+#
+# Degree 4 for second-order equations has a simple root $-1$ on the
+# circle: zero-stable, but only weakly, so we look at what perturbs it.
+# Sympy follows that root for small $h$ on the damped $y'' = \lambda y - c\, y'$:
 
 # %%
-k4 = theory.spline_step_matrix(4)
-mu_s, e1 = sp.Symbol("mu"), sp.Symbol("e1")
-poly4 = sp.numer(sp.together(k4.charpoly(theory.zeta).as_expr()))
+c, e1 = sp.Symbol("c"), sp.Symbol("e1")
+poly4 = sp.numer(sp.together(theory.spline_step_matrix(4).charpoly(theory.zeta).as_expr()))
 # The root near -1 as zeta = -(1 - e1 h): the lowest power of h fixes e1.
 near = sp.Poly(sp.expand(poly4.subs(theory.zeta, -(1 - e1 * theory.h))), theory.h)
 lowest = min(monomial[0] for monomial in near.monoms())
 e1_value = sp.solve(near.coeff_monomial(theory.h ** lowest), e1)[0]
-print("degree 4, parasitic root: zeta = -(1 -", e1_value, "h) + O(h^2)")
-damping = 0.5
-parasitic_rate = float(-e1_value.subs(mu_s, -damping))  # |zeta|^(t/h) = exp(-e1 t)
+display(Math(r"\zeta_{\rm parasitic} = -\left(1 + " + theory.latex(-e1_value * theory.h)
+             + r"\right) + O(h^2), \qquad |\zeta_{\rm parasitic}|^{t/h} \to "
+             + theory.latex(sp.exp(-e1_value * sp.Symbol("t")))))
+damping = 0.5   # the c of the damped oscillator below
+parasitic_rate = float(-e1_value.subs(c, damping))
 
-# Measured: degree 3..6 on y'' = -y (exact start values), degree 4 on the
-# damped y'' = -y - 0.5 y', and degree 4's order on one orbit of the ellipse.
-def harmonic_error(k, h, t_end):
-    start = [[0.0], [1.0], [0.0]][:k - 3]
-    res = solve_degree(lambda t, y, yp: -y, (0.0, t_end), 1.0, 0.0, h, k,
-                       derivatives=start or None)
-    return res.t, np.abs(res.y[0] - np.cos(res.t)), res
-
+# %% [markdown]
+# Undamped ($c = 0$), the root stays on the circle to this order; damped
+# ($c > 0$), it leaves it, and the parasitic mode grows like $e^{ct/3}$
+# while the solution decays.
+#
+# Now the measurements.  First degrees 3 to 6 on $y'' = -y$ at $h = 0.05$,
+# from the exact starting values (the extra derivatives included): the
+# errors of degrees 5 and 6 should grow per step by their largest spurious
+# root.
 
 # %%
-# h = 0.05; degrees 5 and 6 leave double precision within 1.5 time units
+def harmonic_error(k, h, t_end):
+    start = [[0.0], [1.0], [0.0]][:k - 3]   # y''' = 0, y'''' = 1, y''''' = 0 at t = 0
+    res = solve_degree(lambda t, y, yp: -y, (0.0, t_end), 1.0, 0.0, h, k,
+                       derivatives=start or None)
+    return res.t, np.abs(res.y[0] - np.cos(res.t))
+
+
+# degrees 5 and 6 leave double precision within 1.5 time units
 degree_runs = {k: harmonic_error(k, 0.05, 1.5 if k > 4 else 30.0) for k in (3, 4, 5, 6)}
 growth = []
 for k in (5, 6):
-    t, e, _ = degree_runs[k]
+    e = degree_runs[k][1]
     use = (e > 1e-13) & (e < 1e100)
-    factor = np.exp(np.polyfit(np.arange(e.size)[use], np.log(e[use]), 1)[0])
-    growth.append(factor)
-    print(outputs.wrapped(
-        f"degree {k}: error grows by {factor:.4f} per step "
-        f"(largest spurious root {roots_table.set_index('degree').largest_spurious_root[k]:.4f})"))
+    growth.append(np.exp(np.polyfit(np.arange(e.size)[use], np.log(e[use]), 1)[0]))
+    print(f"degree {k}: error grows by {growth[-1]:.4f} per step (largest spurious root "
+          f"{roots_table.set_index('degree').largest_spurious_root[k]:.4f})")
 roots_table["measured_growth_per_step"] = [np.nan, np.nan] + growth
+
+# %% [markdown]
+# They do: 3.737 and 9.906 per step against
+# $2 + \sqrt 3 = 3.732$ and $5 + 2\sqrt 6 = 9.899$.  Degree 4 does not
+# diverge; on one orbit of the ellipse (from its exact $y'''(0)$) its
+# order, and its error when started with $y'''(0) = 0$ instead:
 
 # %%
 a0, a1, a2 = problems.acceleration_derivatives(ellipse.y0[:, None], ellipse.yp0[:, None], mu)
@@ -107,46 +124,60 @@ for step in (0.04, 0.02, 0.01):
                        derivatives=a1.T, args=ellipse.args)
     orbit_errors.append(np.max(np.abs(res.y - ellipse.reference(res.t)[0])))
 quartic_slope = np.polyfit(np.log([0.04, 0.02, 0.01]), np.log(orbit_errors), 1)[0]
+for step, error in zip((0.04, 0.02, 0.01), orbit_errors):
+    print(f"degree 4, one orbit of the ellipse, dt = {step}: max position error {error:.2e}")
+print(f"fitted order {quartic_slope:.2f}")
+roots_table["fitted_order_ellipse"] = [np.nan, quartic_slope, np.nan, np.nan]
+outputs.save_data(roots_table, "higher-degree-roots")
+
+# %%
 wrong_start = solve_degree(ellipse.fun, (0.0, period_T), ellipse.y0, ellipse.yp0, 0.01, 4,
                            derivatives=np.zeros((1, 2)), args=ellipse.args)
 wrong_start_error = np.max(np.abs(wrong_start.y - ellipse.reference(wrong_start.t)[0]))
-print(outputs.wrapped(
-    "degree 4 on one orbit of the ellipse, dt = 0.04, 0.02, 0.01: max position errors "
-    + ", ".join(f"{e:.2e}" for e in orbit_errors) + f"; fitted order {quartic_slope:.2f}"))
 print(f"degree 4 started with y'''(0) = 0 instead of its value: error {wrong_start_error:.2e}")
+cubic = splinestep.solve(ellipse.fun, (0.0, period_T), ellipse.y0, ellipse.yp0, 0.01,
+                         args=ellipse.args)
+cubic_orbit_error = np.max(np.abs(cubic.y - ellipse.reference(cubic.t)[0]))
+print(f"the cubic on one orbit at dt = 0.01: max position error {cubic_orbit_error:.1e}")
+
+# %% [markdown]
+# Degree 4 converges with fitted order 4.00 (one orbit, steps 0.04 to
+# 0.01; $5.5 \times 10^{-10}$ at the report's step, where the cubic's is
+# $4.1 \times 10^{-3}$), but started with $y'''(0) = 0$ its error is
+# $3.2 \times 10^{-3}$, about the cubic's: the wrong start excites the
+# parasitic mode, which never decays.  Last, degree 4 on the damped
+# oscillator $y'' = -y - c\, y'$ with $c = 0.5$, from its exact
+# $y'''(0) = c/2$:
 
 # %%
 damped = solve_degree(lambda t, y, yp: -y - damping * yp, (0.0, 60.0), 1.0, 0.0, 0.05, 4,
-                      derivatives=[[0.5 * damping]])  # y''' = -y' - 0.5 y'' = 0.25 at t = 0
+                      derivatives=[[0.5 * damping]])  # y''' = -y' - c y'' = c / 2 at t = 0
 w_d = np.sqrt(1 - damping ** 2 / 4)
 exact_damped = np.exp(-damping * damped.t / 2) * (np.cos(w_d * damped.t)
                                                   + damping / (2 * w_d) * np.sin(w_d * damped.t))
 damped_error = np.abs(damped.y[0] - exact_damped)
 late = damped.t > 20
 damped_rate = np.polyfit(damped.t[late], np.log(damped_error[late]), 1)[0]
-print(f"degree 4 on y'' = -y - 0.5 y': error grows like exp({damped_rate:.4f} t) "
-      f"(parasitic root: exp({parasitic_rate:.4f} t))")
-constants = [dict(quantity="degree 5: spurious root modulus 2 + sqrt(3)", derived=2 + np.sqrt(3),
-                   measured=growth[0]),
-              dict(quantity="degree 6: spurious root modulus 5 + 2 sqrt(6)",
-                   derived=5 + 2 * np.sqrt(6), measured=growth[1]),
-              dict(quantity="degree 4, damping 0.5: parasitic growth rate per unit time",
-                   derived=parasitic_rate, measured=damped_rate)]
-roots_table["fitted_order_ellipse"] = [np.nan, quartic_slope, np.nan, np.nan]
-outputs.save_data(roots_table, "higher-degree-roots")
+print(f"degree 4 on y'' = -y - c y', c = 0.5: error grows like exp({damped_rate:.4f} t)")
+print(f"  parasitic root: exp({parasitic_rate:.4f} t)")
+
+# %% [markdown]
+# The error grows like $e^{0.1693 t}$, against $e^{0.1667 t}$, that is
+# $e^{ct/3}$, from the parasitic root.  The figure shows the four degrees on
+# the undamped oscillator and degree 4 on the damped one:
 
 # %%
 fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0))
 for k, style in ((3, "C0-"), (4, "C1-"), (5, "C3-"), (6, "C4-")):
-    t, e, _ = degree_runs[k]
+    e = degree_runs[k][1]
     keep = (e > 0) & (e < 1e6)
     # steps on a log axis: degrees 5 and 6 leave the plot within 30 steps, 3 and 4 run 600
     ax.loglog(np.arange(e.size)[keep], e[keep], style, marker="o", markersize=2.5,
               label=f"degree {k}")
-for k, factor in ((5, 2 + np.sqrt(3)), (6, 5 + 2 * np.sqrt(6))):
-    n = np.arange(1, 30)
-    ax.semilogy(n, 1e-16 * factor ** n, "k:", linewidth=1,
-                label="spurious roots: $3.73^n$, $9.90^n$" if k == 5 else None)
+n = np.arange(1, 30)
+ax.semilogy(n, 1e-16 * (2 + np.sqrt(3)) ** n, "k:", linewidth=1,
+            label="spurious roots: $3.73^n$, $9.90^n$")
+ax.semilogy(n, 1e-16 * (5 + 2 * np.sqrt(6)) ** n, "k:", linewidth=1)
 ax.set_xlim(1, 600)
 ax.set_ylim(1e-21, 1e6)   # room below the curves for the key
 ax.set_xlabel("step number $n$ ($h = 0.05$)")
@@ -155,47 +186,38 @@ ax.set_title("Degree-$k$ splines ($k - 1$ continuous derivatives) on $y'' = -y$"
 ax.legend(loc="lower right", ncol=3, fontsize=outputs.MIN_FONT, columnspacing=1.0)
 bx.semilogy(damped.t, damped_error, "C1-", label="degree 4, error")
 bx.semilogy(damped.t, np.abs(exact_damped), "k-", linewidth=1, label="the solution $|y|$")
-bx.semilogy(damped.t, damped_error[late][0] * np.exp(parasitic_rate * (damped.t - damped.t[late][0])),
-            "k:", label=f"parasitic root, $e^{{{parasitic_rate:.3f} t}}$")
+start = damped.t[late][0]
+bx.semilogy(damped.t, damped_error[late][0] * np.exp(parasitic_rate * (damped.t - start)),
+            "k:", label=f"parasitic root, $e^{{ct/3}} = e^{{{parasitic_rate:.3f} t}}$")
 bx.set_xlabel("$t$")
 bx.set_ylabel("$|y_n - y(t_n)|$")
-bx.set_title("Degree 4 on the damped $y'' = -y - 0.5\\,y'$ ($h = 0.05$)")
+bx.set_title("Degree 4 on the damped $y'' = -y - c\\,y'$, $c = 0.5$ ($h = 0.05$)")
 bx.legend(loc="upper right")
 outputs.save_figure(fig, "higher-degree-splines")
 
 # %% [markdown]
 # Degree 4 is the surprise: its extra root $-1$ sits on the unit circle, the
 # method is zero-stable, and it converges with order 4.  But only weakly:
-# the root's perturbation $-(1 - \mu h/3)$ leaves the circle as soon as the
-# equation is damped ($\mu < 0$), and the parasitic mode then grows like
-# $e^{|\mu| t/3}$ while the solution decays; and a wrong $y'''(0)$ excites
+# the root's perturbation $-(1 + c h/3)$ leaves the circle as soon as the
+# equation is damped ($c > 0$), and the parasitic mode then grows like
+# $e^{c t/3}$ while the solution decays; and a wrong $y'''(0)$ excites
 # that mode, which never decays.  Usable, in the strict sense of the theory,
 # are degree 3 (the report's method) and degree 4 for undamped problems with
 # exact starting derivatives; degrees 5 and 6 diverge for every $h$.  The
 # fourth-order method that keeps the cubic's good behaviour is built in
-# another way, by symmetric composition of the cubic step.
-
-# %%
-cubic = splinestep.solve(ellipse.fun, (0.0, period_T), ellipse.y0, ellipse.yp0, 0.01,
-                         args=ellipse.args)
-cubic_orbit_error = np.max(np.abs(cubic.y - ellipse.reference(cubic.t)[0]))
-print(f"the cubic on one orbit at dt = 0.01: max position error {cubic_orbit_error:.1e}")
-
-# %% [markdown]
-# Measured: the errors of degrees 5 and 6 grow by 3.737 and 9.906 per
-# step, against the spurious roots' moduli $2 + \sqrt 3 = 3.732$ and
-# $5 + 2\sqrt 6 = 9.899$.  Degree 4 on the ellipse converges with fitted
-# order 4.00 (one orbit, steps 0.04 to 0.01; $5.5 \times 10^{-10}$ at the
-# report's step, where the cubic's is $4.1 \times 10^{-3}$), but started
-# with $y'''(0) = 0$ its error is $3.2 \times 10^{-3}$.  On the damped
-# oscillator its error grows like $e^{0.169 t}$, against $e^{0.167 t}$
-# from the parasitic root.
-
-# %% [markdown]
+# another way, by symmetric composition of the cubic step (notebook 10).
+#
 # ## The derived constants against the measurements
+# Written to `data/higher-degree-constants.csv`:
 
 # %%
-constants = pd.DataFrame(constants)
-outputs.save_data(constants, "higher-degree-constants")
-for row in constants.itertuples():
-    print(f"{row.quantity:<60} derived {row.derived: .6g}  measured {row.measured: .6g}")
+constants = pd.DataFrame([
+    ("degree 5: spurious root modulus 2 + sqrt(3)", 2 + sp.sqrt(3), growth[0], 4),
+    ("degree 6: spurious root modulus 5 + 2 sqrt(6)", 5 + 2 * sp.sqrt(6), growth[1], 4),
+    ("degree 4, damping 0.5: parasitic growth rate per unit time",
+     -e1_value.subs(c, sp.nsimplify(damping)), damped_rate, 4),
+], columns=["quantity", "exact", "measured", "digits"])
+outputs.save_data(constants.assign(derived=constants.exact.astype(float))
+                  [["quantity", "derived", "measured"]], "higher-degree-constants")
+table = theory.constants_table(constants).map(outputs.readable)
+display(HTML(table.to_html(index=False, justify="left")))

@@ -37,6 +37,37 @@ def test_two_step_relation_order_and_period_error():
     res = problem.solve(iteration="newton", tol=1e-15)
     measured = x / diagnostics.recurrence_fit(res.y[0])[1] - 1
     assert abs(measured - float(series.subs(theory.x, x))) < 1e-9
+    assert theory.oscillator_period_error(x) == measured
+
+
+def test_derivations_typeset_as_latex():
+    err_y, _ = theory.local_errors()
+    assert theory.latex(err_y, "rev-lex") == (r"\frac{h^{4} y^{(4)}}{24} + \frac{7 h^{5} y^{(5)}}{360}"
+                                              r" + \frac{h^{5} q y^{(4)}}{72}")
+    assert theory.aligned([("a", theory.x ** 2 / 6), ("b", r"\sqrt{6}")]) == \
+        r"\begin{aligned}a &= \frac{x^{2}}{6} \\ b &= \sqrt{6}\end{aligned}"
+
+
+def test_constants_table_shows_each_value_to_its_digits():
+    import pandas as pd
+    frame = pd.DataFrame([("a", sp.Rational(1, 12), 0.0833300000669, 6),
+                          ("b", 2 + sp.sqrt(3), 3.73655807545, 4),
+                          ("c", 2 * sp.sqrt(3), 3.4641016151, 10),
+                          ("d", sp.Integer(0), 1.50118600883e-09, 2)],
+                         columns=["quantity", "exact", "measured", "digits"])
+    table = theory.constants_table(frame)
+    assert list(table["derived"]) == ["1/12", "2 + sqrt(3)", "2sqrt(3)", "0"]
+    assert list(table["derived value"]) == ["0.0833333", "3.732", "3.464101615", "0"]
+    assert list(table["measured"]) == ["0.0833300", "3.737", "3.464101615", "1.5e-09"]
+
+
+def test_measured_step_matrix_is_the_derived_one_and_the_limits_are_found():
+    derived = sp.lambdify(theory.x, theory.amplification())
+    for x in (0.5, 2.0, 5.0, 15.0):
+        measured = theory.oscillator_step_matrix(x, tol=1e-10)
+        assert np.max(np.abs(measured - np.array(derived(x), float))) < 1e-12 * max(1, x * x)
+    assert abs(theory.bisect(lambda v: v * v >= 2.0, 1.0, 2.0, steps=50) - np.sqrt(2)) < 1e-12
+    assert theory.sweep_converges(2.4) and not theory.sweep_converges(2.5, max_iter=1000)
 
 
 def test_verlet_on_the_modified_force_reproduces_the_spline():
@@ -172,11 +203,7 @@ def test_starting_errors_must_be_of_order_p_plus_1():
     steps = np.array([0.1, 0.05, 0.025, 0.0125])
 
     def order(start):
-        errors = []
-        for h in steps:
-            y = theory.two_step_oscillator(*start(h), h, int(round(10.0 / h)))
-            errors.append(np.max(np.abs(y - np.cos(h * np.arange(y.size)))))
-        return np.polyfit(np.log(steps), np.log(errors), 1)[0]
+        return theory.two_step_order(start, steps, 10.0)
 
     def package(h):
         return 1.0, splinestep.solve(lambda t, y, yp: -y, (0.0, h), 1.0, 0.0, h, tol=1e-15).y[0, 1]
@@ -193,12 +220,10 @@ def test_knots_satisfy_the_two_step_relation_with_f_evaluated_afresh():
     """The relation holds to rounding for converged steps, and visibly not for
     one sweep per step (so the check can fail)."""
     ellipse = problems.cannonball(0.6)
+    assert ellipse.h == 0.01
 
     def residual(run):
-        f = np.column_stack([ellipse.fun(t, y, yp, *ellipse.args)
-                             for t, y, yp in zip(run.t, run.y.T, run.yp.T)])
-        return np.max(np.abs(run.y[:, 2:] - 2 * run.y[:, 1:-1] + run.y[:, :-2]
-                             - 0.01 ** 2 * (f[:, 2:] + 4 * f[:, 1:-1] + f[:, :-2]) / 6))
+        return theory.relation_residual(ellipse, run)
 
     assert residual(ellipse.solve(h=0.01, tol=1e-15, t_eval=None)) < 1e-14
     assert residual(ellipse.solve(h=0.01, iterations=1, t_eval=None)) > 1e-13

@@ -3,10 +3,12 @@ recurrence and its order, the oscillator's amplification matrix, the
 higher-degree splines' recurrences, and the modified potential and energy
 of the Verlet conjugacy.
 
-Each function returns sympy expressions; ``notebooks/06_theory`` shows the
-derivations and ``tests/test_theory.py`` checks every constant against a
-measurement made with the package.  Needs sympy (``pip install
-splinestep[theory]``).
+Each derivation returns sympy expressions (:func:`latex` and :func:`aligned`
+typeset them); the functions after them measure the same constants with the
+package, on the oscillator y'' = -omega^2 y and the two-step recurrence.
+``notebooks/06_theory`` shows the derivations and the measurements, and
+``tests/test_theory.py`` checks every constant against a measurement.  Needs
+sympy (``pip install splinestep[theory]``).
 
 References
 ----------
@@ -21,8 +23,14 @@ References
    (1967) 433-445.
 """
 
+import warnings
+
 import numpy as np
 import sympy as sp
+
+from .. import problems
+from ..spline import solve
+from .diagnostics import recurrence_fit
 
 h, x, zeta = sp.symbols("h x zeta")
 # Derivatives y^(j) of the exact solution at t_i, and F's partial
@@ -126,15 +134,17 @@ def period_error(cos_theta, terms=2):
     return sp.expand(ratio - 1)
 
 
-def spline_step_matrix(degree, lam=None, mu=None, first_order=False):
+def spline_step_matrix(degree, lam=None, c=None, first_order=False):
     """The linear map of the C^{k-1} spline of degree k = ``degree``
-    collocating y'' = lam y + mu y' (or, with ``first_order``, y' = lam y)
-    at every knot, on the state (p, p', ..., p^{(k-1)}) at the knot.
+    collocating y'' = lam y - c y' (damping c; or, with ``first_order``,
+    y' = lam y) at every knot, on the state (p, p', ..., p^{(k-1)}) at the
+    knot.
 
-    Returns the k x k matrix (entries in h, lam, mu)."""
+    Returns the k x k matrix (entries in h, lam, c; the symbols ``lambda``
+    and ``c`` where ``lam`` and ``c`` are not given)."""
     k = degree
     lam = sp.Symbol("lambda") if lam is None else lam
-    mu = sp.Symbol("mu") if mu is None else mu
+    c = sp.Symbol("c") if c is None else c
     D = sp.symbols(f"D0:{k}")
     z = sp.Symbol("z")
     base = [sum(D[l] * h ** (l - j) / sp.factorial(l - j) for l in range(j, k)) for j in range(k)]
@@ -142,7 +152,7 @@ def spline_step_matrix(degree, lam=None, mu=None, first_order=False):
     order = 1 if first_order else 2                # the collocated derivative
     g = (z - base[order]) / weight[order]
     new = [base[j] + weight[j] * g for j in range(k)]
-    rhs = lam * new[0] if first_order else lam * new[0] + mu * new[1]
+    rhs = lam * new[0] if first_order else lam * new[0] - c * new[1]
     zsol = sp.solve(sp.Eq(z, rhs), z)[0]
     new = [sp.cancel(e.subs(z, zsol)) for e in new]
     return sp.Matrix([[sp.diff(new[i], D[j]) for j in range(k)] for i in range(k)])
@@ -153,7 +163,7 @@ def characteristic_at_zero(degree, first_order=False):
     the limit h -> 0 (zero-stability: its roots), factored."""
     # With F = 0 (y'' = 0) the map is the h -> 0 limit of every linear F's
     # (F enters with factors h^2 and h), and its polynomial is free of h.
-    M = spline_step_matrix(degree, lam=0, mu=0, first_order=first_order)
+    M = spline_step_matrix(degree, lam=0, c=0, first_order=first_order)
     return sp.factor(M.charpoly(zeta).as_expr())
 
 
@@ -188,3 +198,261 @@ def two_step_oscillator(y0, y1, h, steps, omega=1.0):
     for n in range(1, steps):
         y[n + 1] = factor * y[n] - y[n - 1]
     return y
+
+
+# Typesetting: the derivations as LaTeX, for IPython.display.Math.
+
+# y0, y1, ... (the derivatives y^(j)(t_i)) as y^{(j)}.
+LATEX_NAMES = {symbol: f"y^{{({j})}}" for j, symbol in enumerate(Y)}
+
+
+def latex(expr, order=None):
+    """LaTeX of an expression of this module's symbols.
+
+    Parameters
+    ----------
+    expr : sympy expression or matrix
+        E.g. a local error of :func:`local_errors` or a polynomial of
+        :func:`two_step`.
+    order : str, optional
+        sympy's term order: None (sympy's, descending powers) or
+        ``"rev-lex"``, which writes a series in ascending powers (the
+        leading term of a local error first).
+
+    Returns
+    -------
+    str
+        The LaTeX, with the derivatives ``y4`` written as ``y^{(4)}``.
+    """
+    return sp.latex(expr, symbol_names=LATEX_NAMES, order=order)
+
+
+def aligned(rows, order=None):
+    """Equations one under the other, aligned at their equals signs.
+
+    Parameters
+    ----------
+    rows : sequence of (str, str or sympy expression)
+        The left side of each equation (LaTeX) and its right side: LaTeX,
+        or an expression typeset by :func:`latex`.
+    order : str, optional
+        The term order of those expressions (:func:`latex`).
+
+    Returns
+    -------
+    str
+        A LaTeX ``aligned`` block, for ``IPython.display.Math``.
+    """
+    lines = [f"{left} &= {right if isinstance(right, str) else latex(right, order)}"
+             for left, right in rows]
+    return "\\begin{aligned}" + " \\\\ ".join(lines) + "\\end{aligned}"
+
+
+# Measurements of the derived constants, made with the package.
+
+def oscillator_run(x, y0, v0, steps, tol=1e-15):
+    """Newton-solved steps of y'' = -y at h = omega h = ``x``.
+
+    Parameters
+    ----------
+    x : float
+        The step, which is omega h for omega = 1.
+    y0, v0 : float or array_like
+        Starting values of y and of h y' (one component per starting
+        vector: a run of several components makes several runs at once).
+    steps : int
+        Number of steps.
+    tol : float, optional
+        Newton's tolerance.  The step equation is linear, so that Newton's
+        first iteration solves it and ``tol`` only decides when the
+        rounding-sized corrections after it count as converged: past
+        omega h of about 7 they exceed 1e-15 of the state.
+
+    Returns
+    -------
+    OdeResult
+        The run of ``splinestep.solve`` (``iteration="newton"``).  Its
+        step-too-large warning is not raised: these steps go past the
+        stability limit on purpose.
+    """
+    y0, v0 = np.atleast_1d(np.asarray(y0, float)), np.atleast_1d(np.asarray(v0, float))
+    osc = problems.harmonic(omega=1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return solve(osc.fun, (0.0, steps * x), y0, v0 / x, x, args=osc.args, jac=osc.jac,
+                     iteration="newton", tol=tol)
+
+
+def oscillator_step_matrix(x, tol=1e-15):
+    """The measured matrix M of one step, (y_1, h y'_1) = M (y_0, h y'_0).
+
+    Parameters
+    ----------
+    x : float
+        omega h.
+    tol : float, optional
+        Newton's tolerance (:func:`oscillator_run`).
+
+    Returns
+    -------
+    ndarray, shape (2, 2)
+        Its columns are one Newton-solved step (:func:`oscillator_run`)
+        from (1, 0) and from (0, 1): the measured counterpart of
+        :func:`amplification`.
+
+    Raises
+    ------
+    RuntimeError
+        If the step fails (its message says why).
+    """
+    res = oscillator_run(x, [1.0, 0.0], [0.0, 1.0], 1, tol)
+    if not res.success:
+        raise RuntimeError(f"the step at omega h = {x} failed: {res.message}")
+    return np.array([res.y[:, -1], x * res.yp[:, -1]])
+
+
+def oscillator_period_error(x, steps=400):
+    """The measured relative period error T_h / T - 1 at omega h = ``x``.
+
+    Parameters
+    ----------
+    x : float
+        omega h, below the stability limit sqrt(12).
+    steps : int, optional
+        Length of the run whose samples are fitted.
+
+    Returns
+    -------
+    float
+        ``x / theta - 1``, with the rotation per step theta fitted to the
+        computed samples (:func:`splinestep.analysis.diagnostics.recurrence_fit`)
+        of a Newton-solved run from y = 1, y' = 0.  Its step-too-large
+        warning (from omega h = 0.25 on over 400 steps) is not raised.
+    """
+    problem = problems.harmonic(omega=1.0, t_span=(0.0, steps * x), h=x)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = problem.solve(iteration="newton", tol=1e-15)
+    return x / recurrence_fit(res.y[0])[1] - 1
+
+
+def sweep_converges(x, max_iter=100_000):
+    """Whether the fixed-point sweep solves one step of y'' = -y at omega h = ``x``.
+
+    Parameters
+    ----------
+    x : float
+        omega h.
+    max_iter : int, optional
+        Sweeps allowed.  Near the limit sqrt(6) the sweep's factor x^2/6 is
+        close to 1, so the largest ``x`` that converges approaches sqrt(6)
+        from below as ``max_iter`` grows.
+
+    Returns
+    -------
+    bool
+        True when the run succeeds within ``max_iter`` sweeps.
+    """
+    problem = problems.harmonic(omega=1.0, t_span=(0.0, x), h=x)
+    return problem.solve(max_iter=max_iter).success
+
+
+def bisect(predicate, lo, hi, steps=30):
+    """Where ``predicate`` switches from False to True on [lo, hi].
+
+    Parameters
+    ----------
+    predicate : callable
+        A function of one float, False at ``lo`` and True at ``hi``.
+    lo, hi : float
+        The bracket.
+    steps : int, optional
+        Halvings of the bracket.
+
+    Returns
+    -------
+    float
+        The midpoint of the last bracket.
+    """
+    for _ in range(steps):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if predicate(mid) else (mid, hi)
+    return 0.5 * (lo + hi)
+
+
+def two_step_order(start, steps, t_end):
+    """The fitted order of :func:`two_step_oscillator` on y'' = -y.
+
+    Parameters
+    ----------
+    start : callable
+        ``start(h)`` returns the starting values (y_0, y_1) for the step h;
+        the exact solution is cos t.
+    steps : array_like
+        The steps h.
+    t_end : float
+        Each run goes to ``t_end``.
+
+    Returns
+    -------
+    float
+        The slope of log(max_n |y_n - cos(n h)|) against log h.
+    """
+    steps = np.asarray(steps, float)
+    errors = []
+    for step in steps:
+        y = two_step_oscillator(*start(step), step, int(round(t_end / step)))
+        errors.append(np.max(np.abs(y - np.cos(step * np.arange(y.size)))))
+    return np.polyfit(np.log(steps), np.log(errors), 1)[0]
+
+
+def relation_residual(problem, run):
+    """The largest residual of the two-step relation on a run's knots.
+
+    Parameters
+    ----------
+    problem : Problem
+        A problem y'' = f(t, y) of ``splinestep.problems`` (its ``fun`` is
+        evaluated afresh at each knot: the stored y'' would make the
+        relation an identity).
+    run : OdeResult
+        A run at the uniform step ``problem.h``, with every knot stored.
+
+    Returns
+    -------
+    float
+        max |y_{n+1} - 2 y_n + y_{n-1} - h^2 (f_{n+1} + 4 f_n + f_{n-1}) / 6|
+        over the knots and components.
+    """
+    f = np.column_stack([problem.fun(t, y, yp, *problem.args)
+                         for t, y, yp in zip(run.t, run.y.T, run.yp.T)])
+    return np.max(np.abs(run.y[:, 2:] - 2 * run.y[:, 1:-1] + run.y[:, :-2]
+                         - problem.h ** 2 * (f[:, 2:] + 4 * f[:, 1:-1] + f[:, :-2]) / 6))
+
+
+def constants_table(frame):
+    """Derived constants against their measurements, as a table of text.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        One row per constant: ``quantity`` (text), ``exact`` (the derived
+        value, a sympy number), ``measured`` (float) and ``digits`` (the
+        significant digits of both values that a run reproduces).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``quantity``, ``derived`` (the exact value as sympy writes
+        it, products without ``*``: ``2 + sqrt(3)``, ``2sqrt(3)``), ``derived value`` and
+        ``measured``, the two numbers at the row's digits (``%#g``: trailing
+        zeros kept, so that every value shows the digits it was measured to;
+        an exact 0 as ``0``).
+    """
+    import pandas as pd
+    return pd.DataFrame({
+        "quantity": list(frame["quantity"]),
+        "derived": [sp.sstr(value, order="rev-lex").replace("*", "") for value in frame["exact"]],
+        "derived value": [f"{float(v):#.{d}g}" if v != 0 else "0"
+                          for v, d in zip(frame["exact"], frame["digits"])],
+        "measured": [f"{v:#.{d}g}" for v, d in zip(frame["measured"], frame["digits"])]})
