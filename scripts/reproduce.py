@@ -278,7 +278,7 @@ def _paper_sources():
 def _site_sources():
     return freshness.files(("README.md", "notebooks/*.ipynb", "paper/splinestep.pdf",
                             "paper/splinestep.typ", "figures/*.png", "data/*.csv", "website/*",
-                            "scripts/build_site.py", "environment.txt"))
+                            "website/_static/*", "scripts/build_site.py", "environment.txt"))
 
 
 def build_if_stale(state, name, sources, build, output):

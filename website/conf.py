@@ -69,3 +69,12 @@ def setup(app):
     app.connect("autodoc-process-docstring", docstrings.as_rst, priority=100)
     app.connect("build-finished", notebook_reader.copy_mathjax)
     app.connect("build-finished", notebook_reader.landing_redirect)
+
+
+# Readable at a phone's width and a laptop's (website/_static/readable.*):
+# the content column fits the ~100-character printed lines at 1366 px;
+# printed output and code wrap, or scroll inside their own box, tables
+# inside their wrapper; a figure opens at full size on a click.
+html_static_path = ["_static"]
+html_css_files = ["readable.css"]
+html_js_files = ["readable.js"]
