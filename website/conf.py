@@ -59,7 +59,7 @@ mathjax_path = "mathjax/MathJax.js?config=TeX-AMS-MML_HTMLorMML-full"
 # An undefined macro is an error (tests/test_site.py finds those), not red text.
 mathjax2_config = {"tex2jax": {"processEscapes": True}, "messageStyle": "none",
                    "TeX": {"noUndefined": {"disabled": True}},
-                   "HTML-CSS": {"availableFonts": [], "webFont": "STIX-Web",
+                   "HTML-CSS": {"availableFonts": [], "webFont": "STIX-Web", "scale": 90,
                                 "imageFont": None, "preferredFont": None}}
 
 
