@@ -153,7 +153,6 @@ COLUMNS = {
     # Notebooks 09 to 11.  An adaptive run's knots come from accept/reject decisions.
     "adaptive-estimate": dict(t="adaptive", h="adaptive", r="adaptive", estimated="adaptive",
                               true="adaptive"),
-    "adaptive-work": dict(setting="exact", nfev="exact", final_error="error"),
     # rtol against the global error: every row an adaptive run (this
     # package's or scipy's); the scale of y is the reference solution's.
     "tolerance-proportionality": dict(method="exact", rtol="exact", nfev="adaptive",
@@ -164,10 +163,10 @@ COLUMNS = {
                               scale_y="state", problem="exact"),
     "pleiades-steps": dict(status="exact", nfev="exact", nstep="exact", rejected="exact",
                            failed="exact", t_end="state", error="error", flagged="exact"),
-    # The pairs are matched to adaptive runs: every column follows them.
-    "adaptive-matched": dict(rtol="exact", adaptive_nfev="adaptive", adaptive_error="adaptive",
-                             uniform_nfev="adaptive", uniform_error="adaptive",
-                             interpolated="adaptive", direct="adaptive"),
+    # Uniform runs matched to adaptive ones: every column follows the adaptive run.
+    "tolerance-cost": dict(rtol="exact", adaptive_nfev="adaptive", adaptive_error="adaptive",
+                           n="adaptive", uniform_nfev="adaptive", uniform_error="adaptive",
+                           interpolated_nfev="adaptive", ratio="adaptive"),
     "newton-reuse": dict(status="exact", nfev="exact", njev="exact", nstep="exact",
                          niter="exact", error="error", flagged="exact"),
     "variable-step-energy": dict(orbit="exact", energy_error="error", nfev_per_orbit="exact"),
@@ -193,8 +192,6 @@ COLUMNS = {
 ADAPTIVE_ROWS = {
     "newton-reuse": (lambda frame: frame["run"].str.startswith("adaptive"),
                      ("nfev", "nstep", "niter", "error")),
-    "adaptive-work": (lambda frame: frame["method"].str.startswith("adaptive"),
-                      ("nfev", "final_error")),
     "pleiades-steps": (lambda frame: frame["run"].str.startswith("adaptive"),
                        ("nfev", "nstep", "rejected", "failed", "t_end", "error")),
     "composition-work": (lambda frame: frame["method"].str.startswith("scipy"),
@@ -224,6 +221,14 @@ ADAPTIVE_LONG_ROWS = {
                              momentum_exponent="adaptive-long-exponent",
                              momentum_drift_per_orbit="adaptive-long",
                              final_momentum_error="adaptive-long")),
+    # Adaptive knots with one sweep per step: their final error of y' is far
+    # below the tolerance (0.03 of it on the forced Duffing oscillator), so
+    # it is not what the controller holds; after one decision flips
+    # (measured: 11 evaluations in 37,399 with generic CPU code) it moved by
+    # 5.2 %.
+    "tolerance-proportionality": (lambda frame: frame["method"] == "spline, 1 sweep",
+                                  dict(error_yp="adaptive-long",
+                                       error_ratio_yp="adaptive-long")),
 }
 # Rows whose columns measure only accumulated rounding (kind "rounding").
 ROUNDING_ROWS = {

@@ -4,6 +4,7 @@ the solution's scale and follows rtol proportionally, against exact
 solutions."""
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import splinestep
@@ -62,3 +63,54 @@ def test_a_late_start_takes_its_first_step():
     assert all(r.status == 0 for r in runs)
     assert runs[1].nstep == runs[0].nstep
     assert abs(runs[1].y[0, -1] - np.cos(10.0)) < 1e-6
+
+
+def test_uniform_steps_are_log_spaced_eight_per_decade():
+    """The oscillator's uniform runs: 2000 to 1.6 million steps, 2.9 decades,
+    so 25 counts at a ratio of 800^(1/24) = 1.32 from one to the next."""
+    steps = tolerance.uniform_steps("harmonic oscillator")
+    assert steps[0] == 2000 and steps[-1] == 1_600_000 and steps.size == 25
+    assert np.allclose(steps[1:] / steps[:-1], 800 ** (1 / 24), rtol=2e-3)
+
+
+def test_converging_part_leaves_out_a_coarse_error_through_zero():
+    """A coarse run whose error passes near zero by chance (n = 300 below)
+    is not part of the curve: it stops at the first coarser step whose
+    error does not grow."""
+    curve = pd.DataFrame(dict(n=[100, 200, 300, 400, 800, 1600],
+                              error=[0.2, 0.05, 1e-5, 4e-3, 1e-3, 2.5e-4]))
+    assert list(tolerance.converging_part(curve).n) == [400, 800, 1600]
+    assert list(tolerance.converging_part(curve.iloc[3:]).n) == [400, 800, 1600]
+
+
+def test_the_oscillators_verdict_depends_on_the_uniform_runs_sweeps():
+    """On y'' = -y over (0, 50) at rtol 1e-4 and 1e-5, against uniform runs
+    matched to the adaptive run's error: iterated on both sides the knots
+    cost 0.7 to 1.1 times the uniform evaluations (0.75 and 1.06 measured),
+    against a uniform run with one sweep per step about twice (2.16 and
+    2.11), since a fine iterated step takes 2 sweeps where 1 reaches the
+    same error."""
+    name = "harmonic oscillator"
+    study = {name: tolerance.problems()[name]}
+    adaptive = pd.DataFrame(tolerance.runs(study[name], [1e-4, 1e-5], methods=("spline",)))
+    uniform = pd.DataFrame(tolerance.uniform_runs(study[name], [8000, 16000, 32000, 64000],
+                                                  sweeps=("iterated", "1 sweep")))
+    cost = tolerance.cost_ratios(study, adaptive.assign(problem=name),
+                                 uniform.assign(problem=name),
+                                 pairs=(("spline", "uniform, iterated"),
+                                        ("spline", "uniform, 1 sweep")))
+    assert np.all(np.abs(cost.uniform_error / cost.adaptive_error - 1) < 0.02)   # matched
+    iterated = cost[cost.uniform == "uniform, iterated"].ratio
+    one_sweep = cost[cost.uniform == "uniform, 1 sweep"].ratio
+    assert np.all((0.7 < iterated) & (iterated < 1.1))
+    assert np.all((1.9 < one_sweep) & (one_sweep < 2.3))
+
+
+def test_ratio_ranges_as_the_notebook_prints_them():
+    ratios = pd.DataFrame(dict(problem=["p"] * 3 + ["q"] * 3, adaptive="spline",
+                               uniform="uniform, iterated",
+                               ratio=[0.566, 1.0615, 0.9, 0.0269, 0.0362, np.nan]))
+    table = tolerance.ratio_ranges(ratios)
+    assert table.loc["p", "spline / uniform, iterated"] == "0.57 to 1.06"
+    assert table.loc["q", "spline / uniform, iterated"] == "0.027 to 0.036 (2 of 3)"
+    assert tolerance.ratio_text(0.0201) == "0.020"
