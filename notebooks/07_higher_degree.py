@@ -191,7 +191,7 @@ start = damped.t[late][0]
 bx.semilogy(damped.t, damped_error[late][0] * np.exp(parasitic_rate * (damped.t - start)),
             "k:", label=f"parasitic root, $e^{{ct/3}} = e^{{{parasitic_rate:.3f} t}}$")
 bx.set_xlabel("$t$")
-bx.set_ylabel("$|y_n - y(t_n)|$")
+bx.set_ylabel("error $|y_n - y(t_n)|$, and $|y|$")
 bx.set_title("Degree 4 on the damped $y'' = -y - c\\,y'$, $c = 0.5$ ($h = 0.05$)")
 bx.set_ylim(top=1e5)  # room for the key above the curves
 bx.legend(loc="upper center", bbox_to_anchor=(0.62, 1.0), ncols=2)
