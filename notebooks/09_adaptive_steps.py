@@ -226,8 +226,8 @@ tolerance.ratio_ranges(cost)
 # evaluations on those four problems, and 0.020 to 0.021 on the orbit.
 
 # %%
-fig = plt.figure(figsize=(outputs.WIDTH, 8.8))
-top, bottom = fig.subfigures(2, 1, height_ratios=[1.0, 2.0])
+fig = plt.figure(figsize=(outputs.WIDTH, 5.8))  # the whole figure in a JupyterLab pane
+top, bottom = fig.subfigures(2, 1, height_ratios=[1.25, 2.0])
 markers = dict(zip(study, "osD^v"))
 colors = {"spline": "C0", "spline, 1 sweep": "C1", "RK45": "C4", "DOP853": "C5"}
 greys = {"uniform, iterated": ("0.15", "-"), "uniform, 2 sweeps": ("0.45", "-."),
@@ -254,8 +254,7 @@ for k, (ax, name) in enumerate(zip(axes, study)):   # one panel per problem: err
                   linestyle="-" if method.startswith("spline") else ":",
                   label=method.replace("spline", "spline, adaptive") if "spline" in method
                   else f"scipy {method}")
-    ax.set(title=name, ylabel="final error / scale of $y$" if k in (0, 3) else "",
-           xlabel="evaluations of $F$" if k >= 2 else "")
+    ax.set(title=name, xlabel="evaluations of $F$" if k >= 2 else "")
     low, high = ax.get_ylim()
     ax.set_ylim(low, high * (high / low) ** 0.35)   # room for the ratios of the table
     ax.text(0.97, 0.97, "adaptive / uniform:\n" + "\n".join(
@@ -265,6 +264,7 @@ for k, (ax, name) in enumerate(zip(axes, study)):   # one panel per problem: err
 axes[5].legend(*axes[0].get_legend_handles_labels(), loc="center", frameon=False)
 axes[5].axis("off")
 bottom.suptitle("Error against work", fontsize=11)
+bottom.supylabel("final error / scale of $y$", fontsize=outputs.MIN_FONT + 1)
 outputs.save_figure(fig, "tolerance-proportionality")
 
 # %% [markdown]
