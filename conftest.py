@@ -36,6 +36,25 @@ def pytest_configure(config):
 _STARTED = set()
 
 
+def _stop_heartbeat(channel, seconds=10.0):
+    """jupyter_client's HBChannel.stop, with the join bounded: when nbval
+    stops a notebook's kernel, the heartbeat thread (a daemon) can wait on its
+    socket for ever and hang the worker, and with it the whole test run."""
+    channel._running = False
+    channel._exit.set()
+    channel.join(seconds)
+    if not channel.is_alive():
+        channel.close()
+
+
+def _bounded_heartbeat_stop():
+    from jupyter_client.channels import HBChannel
+    HBChannel.stop = _stop_heartbeat
+
+
+_bounded_heartbeat_stop()
+
+
 def pytest_runtest_setup(item):
     stem = notebook_of(item)
     if stem in reproduce.LAST and stem not in _STARTED:
