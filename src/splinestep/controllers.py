@@ -129,11 +129,22 @@ def reversible(tf, eps, rho0, max_steps):
                     float(rho0)), Vectors(_EMPTY, _EMPTY, _EMPTY))
 
 
+@njit(cache=True, inline="always")
+def rounding_floor(t, t0, tf):
+    """The smallest step the error controller takes at ``t`` on the span
+    (t0, tf): 16 ulps of the larger of |t| and the span (a step below it
+    does not change t reliably)."""
+    return 16.0 * np.finfo(np.float64).eps * max(abs(t), abs(tf - t0))
+
+
 @njit(cache=True)
 def first_size(ctrl, atol, rtol, t0, y, yp):
     """The size (positive) of the first step: for ERROR, ``first_step`` or
-    scipy's rule of thumb, 1 % of |y| / |y'| in the scaled norm; for the
-    others, unused (0)."""
+    scipy's rule of thumb, 1 % of |y| / |y'| in the scaled norm, raised to
+    the rounding floor (:func:`rounding_floor`) as scipy raises its steps
+    to its minimum (a run started at a located event, where y is zero to
+    rounding, would otherwise propose a step below the floor and stop at
+    once); for the others, unused (0)."""
     if ctrl.kind != ERROR:
         return 0.0
     span = abs(ctrl.tf - t0)
@@ -150,7 +161,7 @@ def first_size(ctrl, atol, rtol, t0, y, yp):
         d0 = np.sqrt(d0 / m)
         d1 = np.sqrt(d1 / m)
         dt = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
-    return min(dt, ctrl.max_step, span)
+    return max(min(dt, ctrl.max_step, span), rounding_floor(t0, t0, ctrl.tf))
 
 
 @njit(cache=True, inline="always")
@@ -177,7 +188,7 @@ def propose(ctrl, knots, t0, t, attempts, accepted, size, rho):
     if attempts >= ctrl.max_steps:
         return TOO_MANY_STEPS, t, False
     remaining = abs(tf - t)
-    min_step = 16.0 * np.finfo(np.float64).eps * max(abs(t), abs(tf - t0))
+    min_step = rounding_floor(t, t0, tf)
     if ctrl.kind == REVERSIBLE:
         if not 0.0 < rho < np.inf:
             return RHO_NOT_POSITIVE, t, False
