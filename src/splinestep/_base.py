@@ -3,6 +3,7 @@ scipy's ``_ivp/common.py``), the step grid, and the choice between the
 compiled and the plain-Python path."""
 
 import numbers
+import sys
 import warnings
 
 import numpy as np
@@ -47,6 +48,14 @@ def check_options(options, defaults, name):
         raise ValueError(f"{name}() got unknown options {unknown}; the options are "
                          f"{sorted(defaults)}")
     return dict(defaults, **options)
+
+
+def check_flag(value, name):
+    """``value`` as a bool, or a ValueError naming ``name`` (1 and "yes"
+    are not True)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
 
 
 def check_max_steps(max_steps):
@@ -363,21 +372,63 @@ def check_fun(fun, t0, y0, yp0, args):
     return np.atleast_1d(array.astype(float))
 
 
-def check_jac(jac, t0, y0, yp0, args):
-    """Call ``jac`` once at the start and check that it returns two finite
-    (m, m) arrays, dF/dy and dF/dyp."""
-    m = y0.shape[0]
-    value = _call_at_start("jac", jac, t0, y0, yp0, args)
-    expected = f"a pair (dF/dy, dF/dyp) of arrays of shape ({m}, {m})"
+def is_sparse(value):
+    """True when ``value`` is a scipy.sparse matrix or array (without
+    importing scipy: a program that made one has imported it)."""
+    sparse = sys.modules.get("scipy.sparse")
+    return sparse is not None and sparse.issparse(value)
+
+
+def jac_parts_reason(value, m, t):
+    """None when ``value`` is a pair (dF/dy, dF/dyp) of (m, m) arrays or
+    scipy.sparse matrices of finite real numbers; otherwise why not, as a
+    message says it (at time ``t``, or of the constant ``jac`` when None)."""
+    expected = (f"a pair (dF/dy, dF/dyp) of arrays or scipy.sparse matrices of shape "
+                f"({m}, {m})")
+    where = "" if t is None else f" at t = {t:.10g}"
     if not isinstance(value, (tuple, list)) or len(value) != 2:
-        raise ValueError(f"jac must return {expected}, got {_describe(value)}")
+        return f"jac must {'be' if t is None else 'return'} {expected}, got {_describe(value)}"
     for name, part in zip(("dF/dy", "dF/dyp"), value):
-        part = np.asarray(part)
-        if part.shape != (m, m):
-            raise ValueError(f"jac must return {expected}; its {name} has shape {part.shape}")
-        if part.dtype.kind not in "iuf" or not np.all(np.isfinite(part)):
-            raise ValueError(f"jac must return {expected} of finite real numbers; "
-                             f"its {name} at t0 is not")
+        if is_sparse(part):
+            shape, data, kind = part.shape, part.tocsr().data, part.dtype.kind
+        else:
+            try:
+                data = np.asarray(part)
+            except (TypeError, ValueError):
+                data = np.asarray(None)
+            shape, kind = data.shape, data.dtype.kind
+        if shape != (m, m):
+            return (f"jac must {'be' if t is None else 'return'} {expected}; its {name} "
+                    f"has shape {shape}{where}")
+        if kind not in "iuf" or not np.all(np.isfinite(data)):
+            return (f"jac must {'be' if t is None else 'return'} {expected} of finite real "
+                    f"numbers; its {name}{where} is not")
+    return None
+
+
+def check_jac_option(jac):
+    """``jac`` as given to a front door: None, a callable, or the constant
+    pair (dF/dy, dF/dyp) as a tuple or list of two matrices (dense or
+    scipy.sparse), as scipy's solve_ivp takes a constant Jacobian; anything
+    else is a ValueError naming it.  A constant pair is returned as a tuple."""
+    if jac is None or callable(jac):
+        return jac
+    if isinstance(jac, (tuple, list)) and len(jac) == 2:
+        return tuple(jac)
+    raise ValueError("jac must be None, a callable or a pair (dF/dy, dF/dyp) of constant "
+                     f"matrices, got {_describe(jac)}")
+
+
+def check_jac(jac, t0, y0, yp0, args):
+    """Call ``jac`` once at the start (or read a constant pair) and check
+    that it gives two finite (m, m) matrices, dF/dy and dF/dyp, dense or
+    scipy.sparse.  Returns "sparse" when either is sparse, else "dense"."""
+    m = y0.shape[0]
+    value = jac if not callable(jac) else _call_at_start("jac", jac, t0, y0, yp0, args)
+    reason = jac_parts_reason(value, m, None if not callable(jac) else t0)
+    if reason is not None:
+        raise ValueError(reason)
+    return "sparse" if any(is_sparse(part) for part in value) else "dense"
 
 
 def is_compiled(f):

@@ -390,6 +390,56 @@ def loop_callables(path, fun, jac, args):
     return contextlib.nullcontext((fun, no_jacobian(len(args)) if jac is None else jac, args))
 
 
+# Newton's matrices built outside the loop (a constant Jacobian, or one
+# whose matrices are scipy.sparse): the Newton step asks the run's
+# :class:`splinestep._linalg.Matrices`, found by its key, to build the matrix
+# of a slot (factorised there by SuperLU, or written into the loop's dense
+# buffer, which the loop factorises) and, when sparse, to solve with it.
+# At m in the thousands the factorisation dominates such a call, so the
+# switch to the interpreter costs nothing measurable there.
+_MATRICES = {}
+
+
+def _call_matrix(key, slot, t, y, yp, wy, wyp, lu):
+    return _MATRICES[key].build(slot, t, y, yp, wy, wyp, lu)
+
+
+def _call_solve(key, slot, b):
+    _MATRICES[key].solve(slot, b)
+
+
+@njit(cache=True)
+def external_matrix(key, slot, t, y, yp, wy, wyp, lu):
+    """(status, njev, contraction bound) of building slot ``slot``'s Newton
+    matrix I - wy dF/dy - wyp dF/dy' at (t, y, yp) in Python."""
+    with objmode(code="int64", njev="int64", bound="float64"):
+        code, njev, bound = _call_matrix(key, slot, t, y, yp, wy, wyp, lu)
+    return code, njev, bound
+
+
+@njit(cache=True)
+def external_solve(key, slot, b):
+    """Solve with slot ``slot``'s matrix factorised in Python, in place."""
+    with objmode():
+        _call_solve(key, slot, b)
+
+
+@contextlib.contextmanager
+def external_matrices(builder):
+    """Within the block, the key by which the loop finds ``builder`` (a
+    :class:`splinestep._linalg.Matrices`; -1.0 for None: the loop builds its
+    matrices itself)."""
+    if builder is None:
+        yield -1.0
+        return
+    key = float(next(_KEYS))
+    _MATRICES[key] = builder
+    try:
+        yield key
+    finally:
+        _MATRICES.pop(key, None)
+
+
 # Events.  The driver calls :func:`python_events` after each accepted step;
 # it finds the run's :class:`splinestep.events.Tracker` by its key and asks
 # it whether the step holds a zero (1: a terminal one, whose time it returns

@@ -2,11 +2,12 @@
 velocity Verlet (:func:`verlet_step`), in the protocol of the spline step
 (:mod:`splinestep.step`): each advances (y, y', y'') from t to t_new into
 ``y_new``, ``yp_new`` and ``z`` (y'' at t_new) and returns (status, nfev,
-njev, niter).  The one driver (:mod:`splinestep.driver`) takes them as it
+njev, niter, rate), rate NaN (no iteration).  The one driver (:mod:`splinestep.driver`) takes them as it
 takes the spline step; both are inlined there (numba ``inline="always"``):
 as calls, they cost each method 1.3 to 1.5 times the time per evaluation
 (``make bench``)."""
 
+import numpy as np
 from numba import njit
 
 from ._base import as_vector
@@ -37,8 +38,8 @@ def rk4_step(fun, args, t, t_new, dt, y, yp, ypp, y_new, yp_new, a, stage):
     """One RK4 step on u = (y, y'), u' = (y', F) from (y, y', y''):
     y_new, yp_new, and y'' at t_new in ``a``; ``stage`` (4, m) holds the
     stage state, velocity and the two weighted sums.  Returns (status, nfev,
-    njev, niter): 4 evaluations of F unless one failed, no Jacobian, no
-    iteration."""
+    njev, niter, rate): 4 evaluations of F unless one failed, no Jacobian, no
+    iteration (rate NaN)."""
     y_stage, v, sum_v, sum_a = stage[0], stage[1], stage[2], stage[3]
     m = y.shape[0]
     # Stage 1 is (y', y'') at t; stage j+1 advances by NODES[j] dt with stage j.
@@ -62,12 +63,12 @@ def rk4_step(fun, args, t, t_new, dt, y, yp, ypp, y_new, yp_new, a, stage):
             g = as_vector(fun(t_new, y_new, yp_new, *args))
         status = _checked(g, a, m)
         if status != OK:
-            return status, j + 1, 0, 0
+            return status, j + 1, 0, 0, np.nan
         if j < 3:
             for k in range(m):
                 sum_v[k] += STAGE_WEIGHTS[j] * v[k]
                 sum_a[k] += STAGE_WEIGHTS[j] * a[k]
-    return OK, 4, 0, 0
+    return OK, 4, 0, 0, np.nan
 
 
 @njit(cache=True, inline="always")
@@ -75,7 +76,7 @@ def verlet_step(fun, args, t_new, dt, y, yp, ypp, y_new, yp_new, a, v):
     """One velocity-Verlet step from (y, y', y''): y_new, yp_new, and y'' at
     t_new in ``a``; one evaluation of F.  F's y' argument is the predictor
     y' + dt y'' (O(dt^2) off, so the step keeps order 2 when F depends on
-    y'), kept in ``v``.  Returns (status, 1, 0, 0)."""
+    y'), kept in ``v``.  Returns (status, 1, 0, 0, NaN)."""
     m = y.shape[0]
     for k in range(m):
         y_new[k] = y[k] + dt * yp[k] + (0.5 * dt * dt) * ypp[k]
@@ -83,4 +84,4 @@ def verlet_step(fun, args, t_new, dt, y, yp, ypp, y_new, yp_new, a, v):
     status = _checked(as_vector(fun(t_new, y_new, v, *args)), a, m)
     for k in range(m):
         yp_new[k] = yp[k] + (0.5 * dt) * (ypp[k] + a[k])
-    return status, 1, 0, 0
+    return status, 1, 0, 0, np.nan

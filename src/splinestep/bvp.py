@@ -56,6 +56,8 @@ def _jacobian(jac, t, y, yp, args, m):
         value = jac(t, y, yp, *args)
     except Exception as error:
         raise BadValue(f"jac raised {type(error).__name__} at t = {t:.10g}: {error}") from error
+    if isinstance(value, (tuple, list)) and len(value) == 2:   # scipy.sparse: dense blocks
+        value = [part.toarray() if _base.is_sparse(part) else part for part in value]
     reason = _compile.jac_value_reason(value, t, m)
     if reason is not None:
         raise BadValue(reason)

@@ -62,12 +62,26 @@ GROWTH_MARGIN = 1e-3
 RATE_MARGIN = 0.01
 
 
+def _jac_parts(jac, args, t, y, yp):
+    """(dF/dy, dF/dy', calls of jac) from ``jac``, a function or the
+    constant pair, dense or scipy.sparse as given."""
+    if callable(jac):
+        fy, fyp = jac(t, y.copy(), yp.copy(), *args)
+        return fy, fyp, 1
+    return jac[0], jac[1], 0
+
+
+def _dense(part):
+    return part.toarray() if _base.is_sparse(part) else np.asarray(part, dtype=float)
+
+
 def jacobians(fun, jac, args, t, y, yp):
     """(dF/dy, dF/dy', evaluations of fun, evaluations of jac) at (t, y,
-    y'): from ``jac``, or by forward differences (2m + 1 evaluations)."""
+    y'), dense: from ``jac``, or by forward differences (2m + 1
+    evaluations)."""
     if jac is not None:
-        fy, fyp = jac(t, y.copy(), yp.copy(), *args)
-        return np.asarray(fy, dtype=float), np.asarray(fyp, dtype=float), 0, 1
+        fy, fyp, calls = _jac_parts(jac, args, t, y, yp)
+        return _dense(fy), _dense(fyp), 0, calls
     m = y.size
     g = np.atleast_1d(np.asarray(fun(t, y.copy(), yp.copy(), *args), dtype=float))
     fy, fyp = np.empty((m, m)), np.empty((m, m))

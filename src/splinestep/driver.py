@@ -83,11 +83,13 @@ Saving.__doc__ = """What the driver keeps: values at ``t_eval`` (may be
 empty), every knot when ``store`` (else the first only), and the key of the
 events' tracker (:mod:`splinestep.events`), negative for none."""
 
-Run = namedtuple("Run", "status last_status fail_step t_last t_fail nfev njev niter attempts "
+Run = namedtuple("Run", "status last_status rate fail_step t_last t_fail nfev njev niter attempts "
                         "nstep n_rejected n_failed n_knots n_eval T K RHO E estimate "
                         "y_at_err yp_at_err y_end yp_end")
 Run.__doc__ = """What the loop returns.  ``status`` (a code of
-:mod:`splinestep.status`), ``last_status`` (the last step's own),
+:mod:`splinestep.status`), ``last_status`` (the last step's own) and
+``rate`` (its iteration's estimated contraction per iteration, when it
+failed; NaN otherwise),
 ``fail_step`` (1-based index of the step that failed, 0 for the start),
 ``t_last`` (the last knot reached), ``t_fail`` (where the failed step was
 headed), the counts, the knots ``T[:n_knots]`` with ``K`` (knot, (y, y',
@@ -313,7 +315,8 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
     m, it, kind, t_eval = y0.shape[0], method.iteration, dense_kind(method.kind), saving.t_eval
     vec, T, K, RHO, E, acc = _start(ctrl, saving, t0, y0, yp0, ypp0)
     y, yp, ypp, y_new, yp_new, z = vec[_Y], vec[_YP], vec[_YPP], vec[_Y1], vec[_YP1], vec[_Z]
-    kept = step_state(m, max(np.max(method.slots), np.max(method.inside_slots)) + 1)
+    kept = step_state(m, max(np.max(method.slots), np.max(method.inside_slots)) + 1,
+                      spline_steps and it.mode != FIXED_POINT and not it.sparse)
     stage, ev_out = np.empty((4, m)), np.empty((3, m))
     span = (min(t0, ctrl.tf), max(t0, ctrl.tf))
     work, velocity, jerk1, jerk0 = kept.work, stage[0], vec[_JERK1], vec[_JERK]
@@ -325,6 +328,7 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
     nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
     direction = 1.0 if ctrl.tf > t0 else -1.0
     status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
+    last_rate = np.nan
     n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
     dt_prev, after_reject = 0.0, False
     if status == OK:
@@ -343,21 +347,22 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
                 break
             dt = t_new - t
             if sweep:   # the hot path, inlined
-                status, fe, je, ni = sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new,
-                                                yp_new, it, work)
+                status, fe, je, ni, rate = sweep_step(fun, args, t_new, dt, y, yp, ypp, z,
+                                                      y_new, yp_new, it, work)
             elif step_kind == SPLINE:
-                status, fe, je, ni = newton_call(fun, args, jac, t_new, dt, s, it, kept, 0)
+                status, fe, je, ni, rate = newton_call(fun, args, jac, t_new, dt, s, it, kept,
+                                                       0)
             elif step_kind == COMPOSED:
-                status, fe, je, ni = composed_step(fun, args, jac, t, t_new, s, method, kept,
-                                                   sub, span)
+                status, fe, je, ni, rate = composed_step(fun, args, jac, t, t_new, s, method,
+                                                         kept, sub, span)
             elif step_kind == RK4:
-                status, fe, je, ni = rk4_step(fun, args, t, t_new, dt, y, yp, ypp, y_new,
-                                              yp_new, z, stage)
+                status, fe, je, ni, rate = rk4_step(fun, args, t, t_new, dt, y, yp, ypp, y_new,
+                                                    yp_new, z, stage)
             else:
-                status, fe, je, ni = verlet_step(fun, args, t_new, dt, y, yp, ypp, y_new,
-                                                 yp_new, z, velocity)
-            nfev, njev, niter, attempts, last_status = (nfev + fe, njev + je, niter + ni,
-                                                        attempts + 1, status)
+                status, fe, je, ni, rate = verlet_step(fun, args, t_new, dt, y, yp, ypp, y_new,
+                                                       yp_new, z, velocity)
+            nfev, njev, niter, attempts, last_status, last_rate = (
+                nfev + fe, njev + je, niter + ni, attempts + 1, status, rate)
             if spline_steps:
                 for k in range(m):
                     jerk1[k] = (z[k] - ypp[k]) / dt
@@ -402,34 +407,42 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
                 status = TERMINAL_EVENT
             elif control_kind == REVERSIBLE:
                 rho += direction * ctrl.eps * control(t, y, yp, *control_args)
-    return Run(status, last_status, -1 if status == OK else fail_step, t, t_new, nfev, njev,
+    return Run(status, last_status, last_rate, -1 if status == OK else fail_step, t, t_new,
+               nfev, njev,
                niter, attempts, accepted, n_rejected, n_failed, n_knots, n_eval, T, K, RHO, E,
                np.array(acc), vec[_Y_ERR].copy(), vec[_YP_ERR].copy(), y.copy(), yp.copy())
 
 
 def method(kind, mode=FIXED_POINT, n_iter=1, until_converged=True, tol=1e-12, reuse=True,
            weights=(1.0,), slots=(0,), inside=(1.0,), inside_slots=(0,)):
-    """The :class:`splinestep.step.Method` record of a step."""
+    """The :class:`splinestep.step.Method` record of a step (its Newton
+    matrices built by the loop: see :func:`run`)."""
     return Method(int(kind), Iteration(int(mode), int(n_iter), bool(until_converged), float(tol),
-                                       bool(reuse)),
+                                       bool(reuse), -1.0, False),
                   np.asarray(weights, dtype=float), np.asarray(slots, dtype=np.int64),
                   np.asarray(inside, dtype=float), np.asarray(inside_slots, dtype=np.int64))
 
 
-def run(path, fun, jac, args, method, controller, output, start, control=None):
+def run(path, fun, jac, args, method, controller, output, start, control=None, matrices=None):
     """Run the compiled driver on the ``path`` ("compiled" or "plain") and
     return its :class:`Run` and the reason a plain fun's value was refused
     (None if none).  ``controller`` is (Control, Vectors) of
     :mod:`splinestep.controllers`, ``output`` (t_eval or None, store the knots?, a
     :class:`splinestep.events.Tracker` or None), ``start`` (t0, y0, yp0,
-    F there), ``control`` the reversible controller's G(t, y, y'), if any."""
+    F there), ``control`` the reversible controller's G(t, y, y'), if any,
+    ``matrices`` the :class:`splinestep._linalg.Matrices` that builds
+    Newton's matrices in Python (then ``jac`` is None), if any."""
     t_eval, store, events = output
     ctrl, vectors = controller
     t_eval = np.empty(0) if t_eval is None else t_eval
     start = (float(start[0]),) + tuple(start[1:])
     with _compile.loop_callables(path, fun, jac, args) as (loop_fun, loop_jac, loop_args), \
             _compile.scalar_callable(path, control, args) as (loop_control, control_args), \
-            _compile.event_tracker(events) as key:
+            _compile.event_tracker(events) as key, \
+            _compile.external_matrices(matrices) as matrices_key:
+        if matrices is not None:
+            method = method._replace(iteration=method.iteration._replace(
+                matrices=matrices_key, sparse=bool(matrices.sparse)))
         saving = Saving(t_eval, bool(store), key)
         loop = _compile.compiled_driver(_drive, loop_fun, loop_jac, loop_args, loop_control,
                                         control_args, method, ctrl, vectors, saving, start)
@@ -442,11 +455,12 @@ def run(path, fun, jac, args, method, controller, output, start, control=None):
 
 
 def result_of(out, t_eval, max_iter, ctrl, reason=None, *, path, order=2, method="spline",
-              njev=0, dense_output=False):
+              njev=0, dense_output=False, iteration=None):
     """The one result builder of driver runs: the :class:`OdeResult` of the
     :class:`Run` ``out`` (knots, or values at ``t_eval``), with its message
     from :func:`splinestep.status.message`.  ``njev`` adds the front door's
-    own calls of jac; the start's evaluation of fun is counted here."""
+    own calls of jac; the start's evaluation of fun is counted here;
+    ``iteration`` is the spline steps' mode (FIXED_POINT or NEWTON)."""
     n, m = out.n_knots, out.K.shape[2]
     if t_eval is None:
         t, (y, yp, ypp) = out.T[:n], (out.K[:n, j] for j in range(3))
@@ -460,7 +474,8 @@ def result_of(out, t_eval, max_iter, ctrl, reason=None, *, path, order=2, method
         n_rejected=int(out.n_rejected), n_failed=int(out.n_failed),
         rho=out.RHO[1:n].copy() if ctrl.kind == REVERSIBLE else None,
         method=method, order=order, path=path, status=status,
-        message=message(out, max_iter, m, ctrl.max_steps, reason))
+        message=message(out, max_iter, m, ctrl.max_steps, reason,
+                        sweep=iteration == FIXED_POINT))
     if dense_output and n >= 2:
         knots = (out.T[:n], *(out.K[:n, j] for j in range(3)))
         result.sol = (HermiteSolution if order > 2 else SplineSolution)(*knots)

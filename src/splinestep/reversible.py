@@ -89,8 +89,7 @@ def solve_reversible(fun, t_span, y0, yp0, eps, control, *, rho0=1.0, args=(), t
         raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
     if not callable(fun):
         raise ValueError("fun must be callable")
-    if jac is not None and not callable(jac):
-        raise ValueError("jac must be callable or None")
+    jac = _base.check_jac_option(jac)
     max_steps = _base.check_max_steps(opts["max_steps"])
     try:
         float(control(t0, y0.copy(), yp0.copy(), *args))

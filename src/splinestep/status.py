@@ -37,14 +37,39 @@ FAILURES = {
 }
 
 # What to try when a step fails, appended to the message.
+CONDITION = "h^2/6 |dF/dy| + h/2 |dF/dyp| < 1"
+# A sweep whose change shrinks by more than this factor per iteration
+# contracts too slowly to be worth more iterations.
+SLOW_SWEEP = 0.9
 HINTS = {
-    NOT_CONVERGED: " Try a smaller h, or, after the fixed-point sweep, iteration=\"newton\" "
-                   "(the sweep converges only while h^2/6 |dF/dy| + h/2 |dF/dyp| < 1).",
     SINGULAR: " Try a smaller h: the step equation may have no solution at this h.",
     NON_FINITE: " The solution may blow up here, or the step may be too large.",
     DIVERGED: " Try a smaller h, or, after the fixed-point sweep, iteration=\"newton\" "
-              "(the sweep converges only while h^2/6 |dF/dy| + h/2 |dF/dyp| < 1).",
+              f"(the sweep converges only while {CONDITION}).",
 }
+
+
+def not_converged_hint(rate, sweep):
+    """What to try when a step's iteration ran out of iterations, from
+    ``rate``, its change's mean factor per iteration (NaN when unknown):
+    the sweep's contraction condition is blamed only when the sweep did
+    not contract (rate >= 1)."""
+    if rate != rate:   # NaN: fewer than two iterations
+        return " Try a larger max_iter."
+    if not sweep:
+        return (f" Newton's update changed by a factor of about {rate:.2g} per iteration. "
+                "Try a smaller h: the step equation may have no solution near this guess.")
+    if rate >= 1.0:
+        return (f" The sweep did not contract (its change grew by a factor of about "
+                f"{rate:.3g} per iteration): it converges only while {CONDITION}. Try a "
+                "smaller h, or iteration=\"newton\".")
+    if rate >= SLOW_SWEEP:
+        return (f" The sweep contracted only slowly (its change shrank by a factor of about "
+                f"{rate:.3g} per iteration: {CONDITION} barely holds). Try a smaller h, "
+                "iteration=\"newton\", or a larger max_iter.")
+    return (f" The sweep contracted (its change shrank by a factor of about {rate:.2g} per "
+            f"iteration, so {CONDITION} holds) but did not reach tol in max_iter iterations: "
+            "raise max_iter (or tol), or try iteration=\"newton\".")
 
 SUCCESS = "The solver successfully reached the end of the integration interval."
 
@@ -68,9 +93,18 @@ def failure(code, max_iter, m, reason=None):
     return FAILURES[code].format(max_iter=max_iter, m=m)
 
 
-def message(run, max_iter, m, max_steps, reason=None):
+def hint(code, rate, sweep):
+    """The advice appended to the message of a step that failed with
+    ``code`` (``rate`` and ``sweep`` as for :func:`not_converged_hint`)."""
+    if code == NOT_CONVERGED:
+        return not_converged_hint(rate, sweep)
+    return HINTS.get(code, "")
+
+
+def message(run, max_iter, m, max_steps, reason=None, sweep=False):
     """The result's message for the driver's output ``run``
-    (:class:`splinestep.driver.Run`)."""
+    (:class:`splinestep.driver.Run`); ``sweep`` when its steps were solved
+    by the fixed-point sweep."""
     code = run.status
     if code == OK:
         return SUCCESS
@@ -98,4 +132,4 @@ def message(run, max_iter, m, max_steps, reason=None):
                 f"last step tried was rejected because {why}. {accepted}")
     return (f"Step {run.fail_step} (from t = {short(run.t_last)} to t = {short(run.t_fail)}) "
             f"failed: {failure(code, max_iter, m, reason)}. {accepted}"
-            f"{HINTS.get(code, '') if reason is None or code not in REFUSED else ''}")
+            f"{hint(code, run.rate, sweep) if reason is None or code not in REFUSED else ''}")

@@ -39,6 +39,7 @@ from numba import njit
 from numba.extending import register_jitable
 
 from ._base import FD_STEP, as_vector, wrong_length
+from ._compile import external_matrix, external_solve
 from .status import BAD_SHAPE, DIVERGED, NON_FINITE, NOT_CONVERGED, OK, SINGULAR
 
 # The coefficients of the unknown z in the step, as multiples of dt^2 and dt,
@@ -55,6 +56,21 @@ ERR_Y = 1.0 / 24.0
 ERR_YP = 1.0 / 12.0
 
 FIXED_POINT, NEWTON = 0, 1
+# The rounding level of the step equation.  Below some tol the change of an
+# iteration cannot get: F at a state known to rounding is itself known only
+# to |dF/dy| eps |y| + |dF/dy'| eps |y'|, which on a stiff system (a chain of
+# 10,000 masses at omega h = 1) is above tol = 1e-12 of the state.  An
+# iteration whose residual z - F is within ROUNDING_MULTIPLE times that
+# level has converged as far as double precision allows.  The sweep measures
+# the level, when its change stops decreasing within ROUNDING_WINDOW of the
+# state, by one evaluation of F at the state perturbed by eps of each
+# component (signs from PROBE_SIGN), at most PROBES times a step; Newton
+# bounds it from its matrix.
+EPS = 2.220446049250313e-16
+ROUNDING_MULTIPLE = 8.0
+ROUNDING_WINDOW = 1.4901161193847656e-08
+PROBES = 3
+PROBE_SIGN = 2654435761
 # Simplified Newton: rebuild the matrix when an iteration reduces the update
 # by less than this factor, or when the step differs by more than this
 # fraction from the one the matrix was built for.
@@ -125,15 +141,24 @@ Kept = namedtuple("Kept", "work lu piv info")
 Kept.__doc__ = """What a driver allocates once for its steps
 (:func:`step_state`): a work array (4, m) and the kept Newton matrices, one
 per distinct sub-step of a composition: LU factors (slots, m, m), pivots
-(slots, m) and, per slot, [built?, the step it was built for]."""
+(slots, m) and, per slot, [built?, the step it was built for, the sweep's
+contraction bound h^2/6 |dF/dy| + h/2 |dF/dy'| (max norm) read from it].  The LU
+factors are (slots, 0, 0) where no dense matrix is factorised (the sweep,
+the baselines), so that those paths need O(m) memory."""
 
-Iteration = namedtuple("Iteration", "mode n_iter until_converged tol reuse")
+Iteration = namedtuple("Iteration", "mode n_iter until_converged tol reuse matrices sparse")
 Iteration.__doc__ = """How the step equation is solved: ``mode`` FIXED_POINT
 or NEWTON; ``n_iter`` iterations at most, exactly when not
 ``until_converged``; converged when the change of the increments dt^2/6
 |dz| and dt/2 |dz| is at most ``tol`` times the size of the state (max
-norm); ``reuse`` of Newton's matrix.  Numbers only: a record holding
-arrays costs reference counting wherever it is passed in the hot loop."""
+norm), or the residual is at the rounding level (:data:`ROUNDING_MULTIPLE`);
+``reuse`` of Newton's matrix.  ``matrices``: negative when the loop builds
+Newton's matrix itself (from a compiled or plain ``jac``, or by finite
+differences), else the key of the :class:`splinestep._linalg.Matrices`
+that builds it in Python (a constant or sparse Jacobian), which also
+factorises and solves with it when ``sparse``.  Numbers only: a record
+holding arrays costs reference counting wherever it is passed in the hot
+loop."""
 
 Method = namedtuple("Method", "kind iteration weights slots inside inside_slots")
 Method.__doc__ = """The step: the method ``kind`` (see :mod:`splinestep.driver`),
@@ -144,17 +169,21 @@ composition of the same order whose sub-steps stay between the step's ends
 
 
 @njit(cache=True)
-def step_state(m, slots):
-    """The :class:`Kept` buffers of a run of m components."""
-    return Kept(np.empty((4, m)), np.zeros((slots, m, m)), np.zeros((slots, m), dtype=np.int64),
-                np.zeros((slots, 2)))
+def step_state(m, slots, dense):
+    """The :class:`Kept` buffers of a run of m components; the (m, m) LU
+    factors only when ``dense`` (Newton with a dense matrix)."""
+    n = m if dense else 0
+    return Kept(np.empty((4, m)), np.zeros((slots, n, n)), np.zeros((slots, m), dtype=np.int64),
+                np.zeros((slots, 3)))
 
 
 @njit(cache=True, error_model="numpy")
-def _build_matrix(fun, args, jac, t_new, dt, s, work, lu, piv, info):
+def _build_matrix(fun, args, jac, t_new, dt, s, work, lu, piv, info, it, slot):
     """I - dF/dz at the current z, factorised into ``lu`` (one slot's); the
-    value of F there is in ``work``'s row _G.  Returns (nfev, njev) spent
-    (finite differences: m evaluations)."""
+    value of F there is in ``work``'s row _G.  Returns (nfev, njev, status)
+    spent (finite differences: m evaluations).  With ``it.matrices`` the
+    Python :class:`splinestep._linalg.Matrices` builds it: factorised there
+    (``it.sparse``) or written into ``lu`` and factorised here."""
     m = s.z.shape[0]
     wy = Y_WEIGHT * dt * dt
     wyp = YP_WEIGHT * dt
@@ -162,7 +191,14 @@ def _build_matrix(fun, args, jac, t_new, dt, s, work, lu, piv, info):
     nfev = 0
     njev = 0
     finite_differences = True
-    if jac is not None:
+    if it.matrices >= 0.0:
+        code, njev, bound = external_matrix(it.matrices, slot, t_new, y_new, yp_new, wy, wyp,
+                                            lu)
+        info[0], info[1], info[2] = 1.0, dt, bound
+        if code != OK or it.sparse:
+            return 0, njev, code
+        finite_differences = False
+    elif jac is not None:
         for j in range(m):
             y_new[j] = work[_BASE_Y, j] + wy * z[j]
             yp_new[j] = work[_BASE_YP, j] + wyp * z[j]
@@ -189,12 +225,19 @@ def _build_matrix(fun, args, jac, t_new, dt, s, work, lu, piv, info):
             for j in range(m):
                 lu[j, k] = -(gk[j] - work[_G, j]) / step
         nfev += m
+    bound = 0.0
+    for j in range(m):
+        row = 0.0
+        for k in range(m):
+            row += abs(lu[j, k])
+        bound = max(bound, row)
     for k in range(m):
         lu[k, k] += 1.0
     lu_factor(lu, piv)
     info[0] = 1.0
     info[1] = dt
-    return nfev, njev
+    info[2] = bound
+    return nfev, njev, OK
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -246,6 +289,40 @@ def _finish(dt, z, y_new, yp_new, work):
     return status
 
 
+@njit(cache=True, error_model="numpy")
+def rounding_level(fun, args, t_new, z, y_new, yp_new):
+    """The rounding level of F at (t_new, y_new, y'_new), where F = z: the
+    largest change of F when each component of the state moves by eps of
+    itself (signs alternating pseudo-randomly, as rounding errors do), and
+    not below eps |z|.  One evaluation; y_new and y'_new are left perturbed
+    (the iteration recomputes them from z).  0 when F's value there is not
+    usable (no iterate is then accepted at the rounding level)."""
+    m = z.shape[0]
+    scale = 0.0
+    for k in range(m):
+        sign = 1.0 if ((k * PROBE_SIGN) >> 13) & 1 else -1.0
+        y_new[k] += sign * EPS * abs(y_new[k])
+        yp_new[k] += sign * EPS * abs(yp_new[k])
+        scale = max(scale, abs(z[k]))
+    g = as_vector(fun(t_new, y_new, yp_new, *args))
+    if _value_status(g, m) != OK:
+        return 0.0
+    level = EPS * scale
+    for k in range(m):
+        level = max(level, abs(g[k] - z[k]))
+    return level
+
+
+@register_jitable
+def contraction_rate(first, last, n):
+    """The change's mean factor per iteration from ``first`` (after the
+    first iteration) to ``last`` (after the n-th): an estimate of the
+    iteration's contraction (NaN before two iterations)."""
+    if n < 2 or not first > 0.0:
+        return np.nan
+    return (last / first) ** (1.0 / (n - 1))
+
+
 @njit(cache=True, error_model="numpy", inline="always")
 def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
     """One step from (y, y', y'') to t_new = t + dt by the report's
@@ -253,7 +330,15 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
     ``it.n_iter`` sweeps at most (exactly, when not ``it.until_converged``;
     ``it`` is an :class:`Iteration`).  On return ``z`` holds y'' at t_new and
     ``y_new``, ``yp_new`` the value and slope there (consistent with z).
-    Returns (status, nfev, njev, niter); no Jacobian is evaluated (njev = 0).
+    Returns (status, nfev, njev, niter, rate); no Jacobian is evaluated
+    (njev = 0); ``rate`` is the estimated contraction per sweep of a step
+    that failed (:func:`contraction_rate`; NaN otherwise), which the run's
+    message reports.
+
+    Converged when the change of the increments is at most tol times the
+    state, or, once the change stops decreasing within ROUNDING_WINDOW of
+    the state, when the change is within ROUNDING_MULTIPLE times the
+    rounding level of F there (:func:`rounding_level`).
 
     Inlined into the driver: this is its hot path, which ``make bench``
     holds against a C loop, so it takes its vectors one by one (a record
@@ -268,6 +353,7 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
     status = NOT_CONVERGED if until_converged else OK
     nfev = 0
     niter = 0
+    first, last, probes = 0.0, np.inf, 0
     for _ in range(it.n_iter):
         size = _trial(wy, wyp, z, y_new, yp_new, work)
         if not size < np.inf:
@@ -290,12 +376,38 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
             if w_max * change <= it.tol * size:
                 status = OK
                 break
+            if (change >= last and probes < PROBES
+                    and w_max * change <= ROUNDING_WINDOW * size):
+                probes += 1
+                nfev += 1
+                if change <= ROUNDING_MULTIPLE * rounding_level(fun, args, t_new, z, y_new,
+                                                                yp_new):
+                    status = OK
+                    break
+            if niter == 1:
+                first = change
+            last = change
         else:
             for k in range(m):
                 z[k] = g[k]
+    rate = np.nan
     if status == OK:
         status = _finish(dt, z, y_new, yp_new, work)
-    return status, nfev, 0, niter
+    elif until_converged:
+        rate = contraction_rate(first, last, niter)
+    return status, nfev, 0, niter, rate
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _rounding_bound(bound, wy, wyp, y_new, yp_new, scale):
+    """eps (|dF/dy| |y| + |dF/dy'| |y'| + |F|) (max norms), with |dF/dy| and
+    |dF/dy'| bounded by the contraction bound h^2/6 |dF/dy| + h/2 |dF/dy'|
+    of Newton's matrix divided by h^2/6 and h/2; ``scale`` is |F|."""
+    y_max, yp_max = 0.0, 0.0
+    for k in range(y_new.shape[0]):
+        y_max = max(y_max, abs(y_new[k]))
+        yp_max = max(yp_max, abs(yp_new[k]))
+    return EPS * (bound * (y_max / wy + yp_max / abs(wyp)) + scale)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -309,6 +421,13 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
     iteration when not ``it.reuse``.  A step that fails with a kept
     matrix is tried again from the start with the matrix rebuilt at every
     iteration, so reusing it never loses a step that full Newton would solve.
+    Converged when the update is at most tol times the state, or when the
+    residual is within ROUNDING_MULTIPLE times the rounding level of F,
+    eps (|dF/dy| |y| + |dF/dy'| |y'| + |F|), bounded from the matrix's
+    contraction bound (its max-norm).  With matrices built in Python
+    (``it.matrices``) the residual is tested before the solve, so that a
+    step of a linear problem costs one solve, not two (a solve through
+    SuperLU costs far more than one of the loop's).
 
     Inlined into :func:`composed_step` and :func:`newton_call`: its code
     inlined beside the sweep in the driver's own loop slows the sweep down
@@ -327,6 +446,7 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
     reuse = it.reuse
     # Views made once per step, not per iteration (each costs reference counting).
     dz, lu_slot, piv_slot = work[_RESIDUAL], kept.lu[slot], kept.piv[slot]
+    first, rate, sparse = 0.0, np.nan, it.sparse
     for attempt in range(2):
         _start(dt, y, yp, ypp, z, work)
         status = NOT_CONVERGED if until_converged else OK
@@ -334,6 +454,7 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
             info[slot, 0] = 0.0
         fresh = False        # the matrix was built during this step
         last_change = np.inf
+        n_attempt = 0
         for _ in range(it.n_iter):
             size = _trial(wy, wyp, z, y_new, yp_new, work)
             if not size < np.inf:
@@ -348,14 +469,30 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
             if info[slot, 0] == 0.0:
                 for k in range(m):
                     work[_G, k] = g[k]
-                fe, je = _build_matrix(fun, args, jac, t_new, dt, s, work, lu_slot, piv_slot,
-                                       info[slot])
+                fe, je, status = _build_matrix(fun, args, jac, t_new, dt, s, work, lu_slot,
+                                               piv_slot, info[slot], it, slot)
                 nfev += fe
                 njev += je
                 fresh = True
+                if status != OK:
+                    break
+                status = NOT_CONVERGED if until_converged else OK
+            residual, scale = 0.0, 0.0
             for k in range(m):
                 dz[k] = g[k] - z[k]
-            lu_solve(lu_slot, piv_slot, dz)
+                residual = max(residual, abs(dz[k]))
+                scale = max(scale, abs(g[k]))
+            if (until_converged and it.matrices >= 0.0 and residual <= ROUNDING_MULTIPLE
+                    * _rounding_bound(info[slot, 2], wy, wyp, y_new, yp_new, scale)):
+                # Matrices built in Python (a constant or sparse Jacobian): a
+                # residual at the rounding level needs no further solve.
+                niter += 1
+                status = OK
+                break
+            if sparse:
+                external_solve(it.matrices, slot, dz)
+            else:
+                lu_solve(lu_slot, piv_slot, dz)
             bad = False
             for k in range(m):
                 if not abs(dz[k]) < np.inf:
@@ -371,21 +508,29 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
             for k in range(m):
                 change = max(change, abs(dz[k]))
                 z[k] += dz[k]
-            if not reuse or (change > SLOW_RATE * last_change and not fresh):
+            converged = w_max * change <= it.tol * size
+            rounded = (until_converged and not converged and residual <= ROUNDING_MULTIPLE
+                       * _rounding_bound(info[slot, 2], wy, wyp, y_new, yp_new, scale))
+            if not reuse or (change > SLOW_RATE * last_change and not fresh and not rounded):
                 info[slot, 0] = 0.0
             last_change = change
             niter += 1
-            if until_converged and w_max * change <= it.tol * size:
+            n_attempt += 1
+            if n_attempt == 1:
+                first = change
+            if until_converged and (converged or rounded):
                 status = OK
                 break
         if status == OK:
             status = _finish(dt, z, y_new, yp_new, work)
+        elif until_converged:
+            rate = contraction_rate(first, last_change, n_attempt)
         if status != OK:
             info[slot, 0] = 0.0
         if status == OK or not reuse or fresh:
             break
         reuse = False   # the kept matrix failed this step: redo it with full Newton
-    return status, nfev, njev, niter
+    return status, nfev, njev, niter, rate
 
 
 @njit(cache=True, error_model="numpy")
@@ -444,6 +589,7 @@ def composed_step(fun, args, jac, t, t_new, s, method, kept, sub, span):
     nfev = 0
     njev = 0
     niter = 0
+    rate = np.nan
     status = OK
     t_sub = t
     _copy_state(s.y, s.yp, s.ypp, sub)
@@ -452,8 +598,9 @@ def composed_step(fun, args, jac, t, t_new, s, method, kept, sub, span):
             t_next = t_new if j == n_sub - 1 else t_sub + weights[j] * dt
             if j > 0:
                 _copy_state(s.y_new, s.yp_new, s.z, sub)
-            status, fe, je, n_it = sweep_step(fun, args, t_next, t_next - t_sub, sub.y, sub.yp,
-                                              sub.ypp, s.z, s.y_new, s.yp_new, it, kept.work)
+            status, fe, je, n_it, rate = sweep_step(fun, args, t_next, t_next - t_sub, sub.y,
+                                                    sub.yp, sub.ypp, s.z, s.y_new, s.yp_new, it,
+                                                    kept.work)
             nfev += fe
             niter += n_it
             if status != OK:
@@ -464,15 +611,15 @@ def composed_step(fun, args, jac, t, t_new, s, method, kept, sub, span):
             t_next = t_new if j == n_sub - 1 else t_sub + weights[j] * dt
             if j > 0:
                 _copy_state(s.y_new, s.yp_new, s.z, sub)
-            status, fe, je, n_it = newton_step(fun, args, jac, t_next, t_next - t_sub, sub, it,
-                                               kept, slots[j])
+            status, fe, je, n_it, rate = newton_step(fun, args, jac, t_next, t_next - t_sub,
+                                                     sub, it, kept, slots[j])
             nfev += fe
             njev += je
             niter += n_it
             if status != OK:
                 break
             t_sub = t_next
-    return status, nfev, njev, niter
+    return status, nfev, njev, niter, rate
 
 
 @register_jitable
