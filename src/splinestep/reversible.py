@@ -34,7 +34,8 @@ from .spline import run_spline
 from .step import FIXED_POINT, NEWTON
 
 
-_OPTIONS = dict(iteration="fixed-point", tol=1e-12, max_iter=50, jac=None, max_steps=10**7)
+_OPTIONS = dict(iteration="fixed-point", tol=1e-12, max_iter=50, jac=None, max_steps=10**7,
+                check=True)
 
 
 def solve_reversible(fun, t_span, y0, yp0, eps, control, *, rho0=1.0, args=(), t_eval=None,
@@ -61,9 +62,9 @@ def solve_reversible(fun, t_span, y0, yp0, eps, control, *, rho0=1.0, args=(), t
         Return the spline as ``sol`` (default True).
     **options
         ``iteration`` ("fixed-point" or "newton"), ``tol``, ``max_iter``,
-        ``jac`` as for :func:`splinestep.solve`, and ``max_steps`` (default
-        10**7): the run stops (status -1) after this many steps.  Any other
-        name is a ValueError.
+        ``jac``, ``check`` as for :func:`splinestep.solve`, and
+        ``max_steps`` (default 10**7): the run stops (status -1) after this
+        many steps.  Any other name is a ValueError.
 
     Returns
     -------
@@ -90,6 +91,7 @@ def solve_reversible(fun, t_span, y0, yp0, eps, control, *, rho0=1.0, args=(), t
     if not callable(fun):
         raise ValueError("fun must be callable")
     jac = _base.check_jac_option(jac)
+    check = _base.check_flag(opts["check"], "check")
     max_steps = _base.check_max_steps(opts["max_steps"])
     try:
         float(control(t0, y0.copy(), yp0.copy(), *args))
@@ -103,4 +105,4 @@ def solve_reversible(fun, t_span, y0, yp0, eps, control, *, rho0=1.0, args=(), t
     step = driver.method(driver.SPLINE, mode, max_iter, True, tol, True)
     ctrl = controllers.reversible(tf, eps, rho0, max_steps)
     return run_spline(fun, jac if mode == NEWTON else None, args, step, ctrl, (t0, y0, yp0),
-                      (t_eval, events, dense_output), max_iter, 2, control=control)
+                      (t_eval, events, dense_output), max_iter, 2, control=control, check=check)

@@ -28,7 +28,8 @@ import warnings
 
 import numpy as np
 
-from . import _base, _linalg, bvp, check, controllers, driver
+from . import _base, _linalg, bvp, controllers, driver
+from . import check as _check
 from .events import Tracker
 from .step import FIXED_POINT, NEWTON, YP_WEIGHT, Y_WEIGHT
 
@@ -234,6 +235,24 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         Newton: keep the matrix and its LU factors while the iteration
         converges fast (simplified Newton [4]_); False rebuilds it at every
         iteration (full Newton).
+    check : bool
+        Run the step-too-large check (default True; see
+        :mod:`splinestep.check` and Warns below).  Its cost does not depend
+        on the number of steps: up to :data:`splinestep.check.DENSE_UP_TO`
+        = 64 components, dense Jacobians at up to three states (2m + 1
+        evaluations of F each without ``jac``) and the eigenvalues of 2m x 2m
+        matrices, O(m^3) time and O(m^2) memory; above, Arnoldi steps on
+        Jacobian-vector products, about 32 evaluations of F per state (or
+        products with ``jac``'s matrices), O(m) memory.  Measured on the
+        chain of masses over three periods of its slowest mode at omega_m h
+        = 1 (``benchmarks/scaling.py``): about 1 ms at m = 10, 4 ms at
+        m = 100, 7 ms at m = 1,000, 0.04 s at m = 10,000 and 0.35 s at
+        m = 100,000, that is 0.13 % of the run at m = 10,000 and 0.01 % at
+        m = 100,000, but 4 % at m = 1,000 and most of the runs of a
+        millisecond or so at m = 10 and 100.  False skips it: no warning
+        and no evaluation (``local_error``, from the run itself, is still
+        reported).
+
     Returns
     -------
     OdeResult
@@ -248,7 +267,7 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         the same keys as every solver of the package
         (:data:`splinestep.result.DEFAULTS`).  ``nfev`` counts every call
         of ``fun``: the first, at t0, and those of the step-too-large check
-        (2m + 1 at each of up to three states) among them.  A failed run
+        (see ``check``) among them.  A failed run
         returns the steps completed before the failure and says in
         ``message`` which step failed and why.
 
@@ -305,12 +324,12 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     weights, slots, inside, inside_slots = composition(order)
     step = step._replace(weights=weights, slots=slots, inside=inside, inside_slots=inside_slots)
     return run_spline(fun, jac, args, step, ctrl, (t0, y0, yp0), (t_eval, events, dense_output),
-                      opts["max_iter"], order)
+                      opts["max_iter"], order, check=opts["check"])
 
 
 _OPTIONS = dict(iteration="fixed-point", iterations=None, tol=1e-12, max_iter=50, jac=None,
                 rtol=1e-3, atol=1e-6, first_step=None, max_step=np.inf,
-                max_steps=_base.MAX_STEPS, reuse_jacobian=True)
+                max_steps=_base.MAX_STEPS, reuse_jacobian=True, check=True)
 
 
 def _options(options):
@@ -318,6 +337,7 @@ def _options(options):
     name is a ValueError naming it."""
     opts = _base.check_options(options, _OPTIONS, "solve")
     opts["max_steps"] = _base.check_max_steps(opts["max_steps"])
+    opts["check"] = _base.check_flag(opts["check"], "check")
     return opts
 
 
@@ -366,11 +386,13 @@ def _step(fun, opts, order):
                          until_converged, tol, opts["reuse_jacobian"]), jac
 
 
-def run_spline(fun, jac, args, step, ctrl, start, output, max_iter, order, control=None):
+def run_spline(fun, jac, args, step, ctrl, start, output, max_iter, order, control=None,
+               check=True):
     """The spline stepper on the driver, with every check: the front door
     of :func:`solve` and :func:`splinestep.solve_reversible` once their
     arguments are valid and their step and controller chosen.  ``start`` is
-    (t0, y0, yp0), ``output`` (t_eval or None, events, dense_output).
+    (t0, y0, yp0), ``output`` (t_eval or None, events, dense_output);
+    ``check`` runs the step-too-large check (:mod:`splinestep.check`).
 
     A ``jac`` given as constant matrices, or returning scipy.sparse ones,
     has its Newton matrices built in Python (:class:`splinestep._linalg.Matrices`):
@@ -400,7 +422,7 @@ def run_spline(fun, jac, args, step, ctrl, start, output, max_iter, order, contr
     # For a composition the jumps measure the local error of a spline step of
     # size h, which overstates the composition's: the check still sees a step
     # far too large for the solution, and no reasonable one.
-    check.report(result, out, fun, jac, args, t0, y0, yp0, Y_WEIGHT, YP_WEIGHT)
+    _check.report(result, out, fun, jac, args, (t0, y0, yp0), (Y_WEIGHT, YP_WEIGHT), check)
     return result
 
 
