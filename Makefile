@@ -11,7 +11,8 @@
 #   make site        build the website alone from the notebooks and the paper
 #   make browser     install Debian's chromium (root), which tests/test_site.py drives
 #   make test        build .venv, run pytest (package tests and nbval on every notebook)
-#   make bench       speed benchmark (compiled, plain Python, scipy, C)
+#   make bench       speed benchmark (compiled, plain Python, scipy, C) and cost against
+#                    the number of equations (benchmarks/scaling.py)
 #   make lab         JupyterLab at the repository root, .py <-> .ipynb pairs active
 #   make test-emulated   the tests with numpy's newer CPU kernels switched off, as on another CPU
 
@@ -80,6 +81,7 @@ test-emulated: $(STAMP) $(FAST_IMPORT)
 
 bench: $(STAMP) $(FAST_IMPORT)
 	$(BIN)/python benchmarks/speed.py
+	$(BIN)/python benchmarks/scaling.py
 
 lab: $(STAMP) $(FAST_IMPORT)
 	$(BIN)/python scripts/lab.py

@@ -9,6 +9,8 @@
 - :func:`eccentric` -- a Kepler orbit of given eccentricity from periapsis;
 - :func:`pleiades` -- seven stars with close encounters (PLEI);
 - :func:`bratu` -- the Bratu boundary value problem and its two solutions;
+- :func:`chain` -- a chain of m masses and springs, y'' = K y, the
+  structural-dynamics model problem at any m (exact modal solution);
 - :func:`first_order` -- any of them as the first-order system scipy's
   ``solve_ivp`` takes.
 """
@@ -20,7 +22,9 @@ from .boundary import bratu
 from .pleiades import pleiades
 from .oscillator import harmonic
 from .euler_top import euler_top_exact, rigid_body
+from .chain import chain, chain_frequencies, chain_matrix
 
 __all__ = ["Problem", "first_order", "cannonball", "CANNONBALL_MU", "ORBIT_TYPES", "kepler_exact",
            "orbit_elements", "acceleration_derivatives", "path_curvature", "step_size_control",
-           "rigid_body", "euler_top_exact", "harmonic", "eccentric", "pleiades", "bratu"]
+           "rigid_body", "euler_top_exact", "harmonic", "eccentric", "pleiades", "bratu",
+           "chain", "chain_matrix", "chain_frequencies"]

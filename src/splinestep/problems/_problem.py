@@ -42,8 +42,9 @@ class Problem:
     t_span : (float, float)
     h : float
         The step the report uses.
-    jac : callable or None
-        ``jac(t, y, yp, *args) -> (dF/dy, dF/dyp)``.
+    jac : callable, pair of matrices, or None
+        ``jac(t, y, yp, *args) -> (dF/dy, dF/dyp)``, or the constant pair
+        (dense or scipy.sparse), as :func:`splinestep.solve` takes it.
     exact : callable or None
         ``exact(t) -> (y, yp)``, each of shape (m, k), the exact solution.
     invariants : dict of str to callable
