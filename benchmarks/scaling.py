@@ -201,21 +201,23 @@ def per_step(run):
     the difference of runs of n and 2n steps (past the problem's span if
     need be) divided by the difference of their steps, so that a run's
     fixed costs (checking its arguments, a first factorisation) do not
-    count; n from a first run of :data:`PROBE_STEPS` steps, raised until
-    the longer run takes about :data:`TIMED` seconds; single runs when they
-    are long."""
-    start = time.perf_counter()
-    run(PROBE_STEPS)
-    rate = (time.perf_counter() - start) / PROBE_STEPS
-    steps = max(PROBE_STEPS, int(TIMED / (2 * rate)))
+    count; n from :data:`PROBE_STEPS`, raised until the difference of the
+    two runs is :data:`TIMED` / 2 seconds or more (the long run kept below
+    :data:`BUDGET` / 4); single runs when they are long."""
+    steps = PROBE_STEPS
     while True:
-        repeats = REPEATS if rate * steps < 1.0 else 1
-        short, (n_short, _, _) = median_time(lambda: run(steps), repeats)
+        short, (n_short, _, _) = median_time(lambda: run(steps), 1)
+        repeats = REPEATS if 2 * short < 1.0 else 1
+        if repeats > 1:
+            short, (n_short, _, _) = median_time(lambda: run(steps), repeats)
         long, (n_long, _, t) = median_time(lambda: run(2 * steps), repeats)
-        rate = max(long - short, 0.0) / (n_long - n_short)
-        if long >= TIMED / 2 or steps >= 10**7:
+        spent = long - short
+        rate = max(spent, 0.0) / (n_long - n_short)
+        if spent >= TIMED / 2 or steps >= 10**7 or 4 * long > BUDGET:
             return rate, n_long, t
-        steps *= 4
+        wanted = TIMED / (2 * rate) if rate > 0 else 4 * steps
+        steps = int(min(max(2 * steps, 1.2 * wanted), BUDGET / (8 * rate) if rate > 0
+                        else 4 * steps))
 
 
 def measure(problem, run, truncatable):

@@ -37,9 +37,9 @@ from .status import OK, SINGULAR
 # The number of components from which a sparse Jacobian is factorised by
 # SuperLU in Python rather than densified into the compiled dense LU: the
 # crossover measured on the chain of masses (benchmarks/scaling.py, Newton
-# with the matrix kept, one solve a step): per step 7.2 us dense against
-# 8.8 us SuperLU at m = 100, 15 us against 11 us at m = 150 (and 0.7 ms
-# against 41 us at m = 1,000).  Below it the dense compiled solve, O(m^2)
+# with the matrix kept, one solve a step): per step 7.7 us dense against
+# 8.6 us SuperLU at m = 100, 12 us against 9.7 us at m = 150 (and 0.68 ms
+# against 39 us at m = 1,000).  Below it the dense compiled solve, O(m^2)
 # with no call into Python, is faster.
 SPARSE_FROM = 120
 

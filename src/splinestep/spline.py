@@ -196,9 +196,9 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         solve one call into Python (for the banded matrices of structural
         models O(m) time and memory); below, and constant dense ones at any
         m, they go to the compiled dense LU, which is faster there (the
-        crossover measured on the chain of masses: per step 7.2 us dense
-        against 8.8 us SuperLU at m = 100, 15 us against 11 us at m = 150,
-        0.7 ms against 41 us at m = 1,000).  With such matrices a
+        crossover measured on the chain of masses: per step 7.7 us dense
+        against 8.6 us SuperLU at m = 100, 12 us against 9.7 us at m = 150,
+        0.68 ms against 39 us at m = 1,000).  With such matrices a
         residual at the rounding level ends the iteration before a further
         solve, so that a step of a linear problem costs one solve.
     rtol, atol : float or array_like of shape (m,)
@@ -246,9 +246,9 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         products with ``jac``'s matrices), O(m) memory.  Measured on the
         chain of masses over three periods of its slowest mode at omega_m h
         = 1 (``benchmarks/scaling.py``): about 1 ms at m = 10, 4 ms at
-        m = 100, 7 ms at m = 1,000, 0.04 s at m = 10,000 and 0.35 s at
-        m = 100,000, that is 0.13 % of the run at m = 10,000 and 0.01 % at
-        m = 100,000, but 4 % at m = 1,000 and most of the runs of a
+        m = 100, 7 ms at m = 1,000, 0.04 s at m = 10,000 and 0.4 s at
+        m = 100,000, that is 0.12 % of the run at m = 10,000 and 0.01 % at
+        m = 100,000, but 3 % at m = 1,000 and most of the runs of a
         millisecond or so at m = 10 and 100.  False skips it: no warning
         and no evaluation (``local_error``, from the run itself, is still
         reported).
