@@ -168,8 +168,8 @@ def paths(problem):
             lambda steps: spline_run(steps, iteration="newton", jac=p.jac), None, True),
         "adaptive (rtol 1e-3, atol 1e-8)": (
             lambda steps: spline_run(None, h=None, **ADAPTIVE_TOL),
-            None if m <= 100 else "its steps grow with m under the present error norm "
-            "(atol on many components of small high-mode content)", False),
+            None if m <= 100 else "at m = 1,000 the whole run takes 35,535 steps (6,111 rejected) and 43 s: "
+            "its steps are capped by the sweep's convergence, omega_m h < 6^(1/2)", False),
         "numpy Newmark + splu (floor)": (
             lambda steps: newmark(p.jac[0], p.t_span, p.y0, p.yp0, p.h, steps), None, True),
         "scipy DOP853": (lambda steps: scipy_run(DOP853, p, steps), None, True),
