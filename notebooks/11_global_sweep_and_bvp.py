@@ -270,10 +270,10 @@ bvp_tolerance.assign(tol=bvp_tolerance.tol.map("{:.0e}".format),
 # stops on the first mesh whose error is below its tolerance: 11 points are
 # already enough for $10^{-3}$, 161 and 5424 are needed for $10^{-6}$ and
 # $10^{-9}$ (the lower branch's $|y|$ stays below 1, so tol is absolute
-# here).  The mesh is refined where the truncation error is largest; on
-# this smooth solution that saves nothing over halving every interval
-# (5121 points), as it does where a layer is (scipy's shock problem:
-# 715 points for $10^{-5}$ where halving needs 4097, `tests/test_bvp.py`).
+# here).  The mesh is refined where the truncation error is largest: on
+# this smooth solution that saves nothing over halving every interval;
+# where the solution has a layer it saves most of the points (scipy's
+# shock problem, `tests/test_bvp.py` and the docstring of `solve_bvp`).
 #
 # ### When the mesh does not converge
 # The resonant problem $y'' = -y$, $y(0) = 0$, $y(\pi) = 1$ has no solution
