@@ -429,15 +429,23 @@ def external_matrices(builder):
     """Within the block, the key by which the loop finds ``builder`` (a
     :class:`splinestep._linalg.Matrices`; -1.0 for None: the loop builds its
     matrices itself)."""
-    if builder is None:
+    with _registered(_MATRICES, builder) as key:
+        yield key
+
+
+@contextlib.contextmanager
+def _registered(registry, item):
+    """Within the block, the key (a float, as the compiled loop passes it)
+    under which ``item`` is in ``registry``; -1.0 for None."""
+    if item is None:
         yield -1.0
         return
     key = float(next(_KEYS))
-    _MATRICES[key] = builder
+    registry[key] = item
     try:
         yield key
     finally:
-        _MATRICES.pop(key, None)
+        registry.pop(key, None)
 
 
 # Events.  The driver calls :func:`python_events` after each accepted step;
@@ -462,15 +470,8 @@ def python_events(key, t, t_new, kind, state, out):
 def event_tracker(tracker):
     """Within the block, the key by which the driver finds ``tracker``
     (-1.0 for None: no events)."""
-    if tracker is None:
-        yield -1.0
-        return
-    key = float(next(_KEYS))
-    _TRACKERS[key] = tracker
-    try:
+    with _registered(_TRACKERS, tracker) as key:
         yield key
-    finally:
-        _TRACKERS.pop(key, None)
 
 
 def compiled_driver(drive, fun, jac, args, control, control_args, *records):
