@@ -10,7 +10,10 @@
 #   make paper       build the paper alone from data/ and figures/
 #   make site        build the website alone from the notebooks and the paper
 #   make browser     install Debian's chromium (root), which tests/test_site.py drives
-#   make test        build .venv, run pytest (package tests and nbval on every notebook)
+#   make test        build .venv, run pytest: the package's tests, and nbval on every
+#                    notebook but those make reproduce ran here with the inputs they have
+#                    now (their printed lines, data and figures are compared with git
+#                    HEAD's instead); RERUN=1 runs every notebook
 #   make bench       speed benchmark (compiled, plain Python, scipy, C) and cost against
 #                    the number of equations (benchmarks/scaling.py)
 #   make lab         JupyterLab at the repository root, .py <-> .ipynb pairs active
@@ -74,10 +77,10 @@ JOBS ?= 2
 PYTEST := $(BIN)/python -m pytest -n $(JOBS) --dist loadfile --no-loadscope-reorder
 
 test: $(STAMP) $(FAST_IMPORT)
-	$(PYTEST)
+	SPLINESTEP_RERUN=$(RERUN) $(PYTEST)
 
 test-emulated: $(STAMP) $(FAST_IMPORT)
-	$(EMULATED_CPU) $(PYTEST)
+	SPLINESTEP_RERUN=$(RERUN) $(EMULATED_CPU) $(PYTEST)
 
 bench: $(STAMP) $(FAST_IMPORT)
 	$(BIN)/python benchmarks/speed.py

@@ -12,6 +12,7 @@ finished, as ``make reproduce`` runs them last.  A finished notebook leaves a
 marker file in SPLINESTEP_OUTPUT, which the workers share.
 """
 
+import json
 import os
 import shutil
 import sys
@@ -21,13 +22,18 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent
 sys.path[:0] = [str(ROOT / "scripts"), str(ROOT / "tests")]
+import freshness  # noqa: E402
 import reproduce  # noqa: E402
-from notebook_runs import done_marker, notebook_of, notebooks_in, wait_for_notebooks  # noqa: E402
+from notebook_runs import (done_marker, notebook_of, notebooks_in, reproduced,  # noqa: E402
+                           wait_for_notebooks)
 
 
 def pytest_configure(config):
     if "SPLINESTEP_OUTPUT" not in os.environ:  # set once, inherited by the workers
         os.environ["SPLINESTEP_OUTPUT"] = tempfile.mkdtemp(prefix="splinestep-outputs-")
+    if "SPLINESTEP_REPRODUCED" not in os.environ:  # likewise
+        os.environ["SPLINESTEP_REPRODUCED"] = json.dumps(
+            {} if os.environ.get("SPLINESTEP_RERUN") else freshness.reproduced(reproduce.NOTEBOOKS))
     if not hasattr(config, "workerinput"):  # the controller: no markers of an earlier session
         shutil.rmtree(done_marker("any").parent, ignore_errors=True)
     os.environ.setdefault("MPLBACKEND", "Agg")
@@ -74,11 +80,28 @@ def pytest_runtest_teardown(item, nextitem):
 COMPARISONS = "test_outputs.py"
 
 
+def pytest_report_header(config):
+    if reproduced():
+        return ("notebooks not run again (make reproduce ran them here with the inputs they have "
+                "now; their outputs are compared with git HEAD's; RERUN=1 runs them): "
+                + " ".join(sorted(reproduced())))
+
+
 def pytest_collection_modifyitems(config, items):
-    """Notebooks in ``reproduce.LAST`` after every other test, and the
-    comparisons of their outputs after those: a worker then never waits for a
-    notebook that it would itself run later, and waits for the others only
-    when it has nothing else left to run."""
+    """Notebooks that ``make reproduce`` ran with the inputs they have now,
+    and whose outputs are as it wrote them, are not run again: nbval would
+    execute the same code on the same inputs to compare its printed lines
+    with those that run stored, and tests/test_outputs.py compares the files
+    that run wrote with git HEAD's instead.  Notebooks in ``reproduce.LAST``
+    after every other test, and the comparisons of their outputs after
+    those: a worker then never waits for a notebook that it would itself
+    run later, and waits for the others only when it has nothing else left
+    to run."""
+    kept = [item for item in items if notebook_of(item) not in reproduced()]
+    if len(kept) < len(items):
+        config.hook.pytest_deselected(items=[i for i in items if i not in kept])
+        items[:] = kept
+
     def rank(item):
         if Path(str(item.path)).name == COMPARISONS:
             return 2

@@ -4,9 +4,10 @@ nothing).
 
 A notebook is up to date when its inputs and its outputs hash as they did
 when ``make reproduce`` last ran it here.  Its inputs are its own source,
-the package (``src/``, with the analysis), the scripts it runs with
-(:data:`COMMON`), the environment (``environment.txt`` and the Python
-version) and every data file it read; its outputs are its ``.ipynb`` and
+the scripts it runs with (:data:`COMMON`), the environment
+(``environment.txt`` and the Python version), every data file it read and
+every module of the repository it imported (the package's modules it used,
+an analysis module only if it imported it); its outputs are its ``.ipynb`` and
 every data file and figure it wrote.  What a notebook read and wrote is
 recorded as it runs (``scripts/outputs.py`` appends to the file named by
 ``SPLINESTEP_MANIFEST``).  The record lives in ``build/reproduce-state.json``,
@@ -15,14 +16,16 @@ which is not committed: a fresh clone runs everything.
 
 import hashlib
 import json
+import os
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 STATE = ROOT / "build" / "reproduce-state.json"
 # Inputs of every notebook besides its own source and what it reads.
-COMMON = ("src/**/*.py", "pyproject.toml", "environment.txt", "scripts/outputs.py",
-          "scripts/reproduce.py")
+# The modules a notebook imports (the package's, the scripts') are among what
+# it read (outputs.note_run): an edit of one reruns the notebooks that import it.
+COMMON = ("pyproject.toml", "environment.txt", "scripts/outputs.py", "scripts/reproduce.py")
 
 
 def files(patterns, root=ROOT):
@@ -55,8 +58,25 @@ def output_hash(path):
     return file_hash(path)
 
 
+# Variables that change what a run computes on this machine: numpy's and
+# numba's choice of CPU kernels (make test-emulated sets them).
+ENVIRONMENT_VARIABLES = ("NPY_DISABLE_CPU_FEATURES", "NUMBA_CPU_NAME", "NUMBA_CPU_FEATURES")
+
+
 def environment():
-    return f"Python {sys.version}"
+    """The Python version and the variables of :data:`ENVIRONMENT_VARIABLES`
+    that are set: a run under other ones is another run."""
+    return f"Python {sys.version}" + "".join(
+        f"\n{name}={os.environ[name]}" for name in ENVIRONMENT_VARIABLES if name in os.environ)
+
+
+def reproduced(notebooks, state=None):
+    """The notebooks (percent scripts) that ``make reproduce`` ran here with
+    the inputs they have now and whose outputs are as that run wrote them:
+    {stem: [the output files, relative to the root]}."""
+    state = State() if state is None else state
+    return {script.stem: sorted(state.records[script.stem]["outputs"])
+            for script in notebooks if state.why_stale(script.stem, [script]) is None}
 
 
 class State:
@@ -125,14 +145,29 @@ class State:
         self.path.write_text(json.dumps(self.records, indent=1, sort_keys=True) + "\n")
 
 
-def read_manifest(path):
-    """(paths read, paths written) from a manifest ``scripts/outputs.py`` wrote."""
-    reads, writes = [], []
+def _manifest_lines(path):
     try:
-        lines = Path(path).read_text().splitlines()
+        return [line.partition(" ") for line in Path(path).read_text().splitlines()]
     except OSError:
-        return reads, writes
-    for line in lines:
-        kind, _, name = line.partition(" ")
-        (reads if kind == "read" else writes).append(name)
+        return []
+
+
+def read_manifest(path):
+    """(paths read, paths written) from a manifest ``scripts/outputs.py``
+    wrote: the data files and, at the end of a run, the modules imported
+    (read); the data files and figures written."""
+    reads, writes = [], []
+    for kind, _, name in _manifest_lines(path):
+        if kind == "read":
+            reads.append(name)
+        elif kind == "wrote":
+            writes.append(name)
     return reads, writes
+
+
+def run_costs(path):
+    """{"compile": s, "cpu": s} from a manifest (:func:`outputs.note_run`):
+    the seconds numba compiled and the CPU seconds of the notebook's
+    kernel; empty if the run did not note them."""
+    return {kind: float(value) for kind, _, value in _manifest_lines(path)
+            if kind in ("compile", "cpu")}

@@ -70,6 +70,26 @@ def _note(kind, path):
             manifest.write(f"{kind} {Path(path).resolve()}\n")
 
 
+def note_run():
+    """Note what a run used besides the data it read: every module of this
+    repository it imported (the package's in ``src/``, the scripts'), so that an edit
+    of a module reruns the notebooks that import it and no other; and what
+    it cost: the seconds numba spent compiling and the CPU seconds of the
+    process.  ``make reproduce`` calls it after a notebook's last cell."""
+    import sys
+    import time
+    for module in list(sys.modules.values()):
+        file = getattr(module, "__file__", None)
+        if file and file.endswith(".py") and any(Path(file).resolve().is_relative_to(ROOT / f)
+                                                 for f in ("src", "scripts")):
+            _note("read", file)
+    compile_module = sys.modules.get("splinestep._compile")
+    seconds = compile_module.compile_seconds() if compile_module else 0.0
+    if _MANIFEST:
+        with open(_MANIFEST, "a") as manifest:
+            manifest.write(f"compile {seconds:.3f}\ncpu {time.process_time():.3f}\n")
+
+
 _PDF_METADATA = {"Creator": None, "Producer": None, "CreationDate": None}
 _PNG_METADATA = {"Software": None}
 

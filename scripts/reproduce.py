@@ -34,6 +34,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import jupytext
+import nbformat
 from nbclient import NotebookClient
 from nbclient.exceptions import CellExecutionError
 
@@ -54,6 +55,9 @@ ORDER = ("08_long_time", "09_adaptive_steps", "06_theory", "10_higher_order",
 JOBS = int(os.environ.get("SPLINESTEP_JOBS", "2"))
 KERNELSPEC = {"name": "python3", "display_name": "Python 3 (ipykernel)", "language": "python"}
 README = ROOT / "README.md"
+# The hidden last cell of every run (see execute).
+NOTE_RUN = ('import sys\nif "outputs" in sys.modules:\n'
+            '    sys.modules["outputs"].note_run()')
 # README sections written from data/ by `make reproduce`: marker name -> CSV.
 README_TABLES = {"claims": "claims", "errata": "errata"}
 
@@ -141,15 +145,19 @@ def execute(script, output_root=None, ready=None, abandon=None, started=lambda: 
         cell.id = f"cell-{index:02d}"
     # The kernel `make` installs: JupyterLab writes this same spec back on save.
     notebook.metadata["kernelspec"] = KERNELSPEC
+    # A last cell, removed before the notebook is returned, notes the
+    # modules the run imported and what it cost (outputs.note_run).
+    notebook.cells.append(nbformat.v4.new_code_cell(NOTE_RUN, id="note-run"))
     env = dict(os.environ, MPLBACKEND="Agg")
     if output_root is not None:
         env["SPLINESTEP_OUTPUT"] = str(output_root)
-    else:  # outputs into this repository; what it reads and writes noted
+    else:  # outputs into this repository
         env.pop("SPLINESTEP_OUTPUT", None)
-        manifest = manifest_path(script)
-        manifest.parent.mkdir(parents=True, exist_ok=True)
-        manifest.unlink(missing_ok=True)
-        env["SPLINESTEP_MANIFEST"] = str(manifest)
+    # What it reads and writes, noted
+    manifest = manifest_path(script, output_root)
+    manifest.parent.mkdir(parents=True, exist_ok=True)
+    manifest.unlink(missing_ok=True)
+    env["SPLINESTEP_MANIFEST"] = str(manifest)
     # The kernel's own warnings (it listens on loopback TCP) are not the
     # reader's business: only its errors are shown.
     options = dict(timeout=600, kernel_name="python3", record_timing=False,
@@ -160,15 +168,18 @@ def execute(script, output_root=None, ready=None, abandon=None, started=lambda: 
     else:
         client = _HeldClient(notebook, ready, abandon, started, **options)
     client.execute(env=env)
+    notebook.cells.pop()
     for cell in notebook.cells:
         cell_outputs = cell.get("outputs", [])
         cell_outputs[:] = _coalesced(cell_outputs)
     return notebook
 
 
-def manifest_path(script):
-    """Where a run of ``script`` notes the files it reads and writes."""
-    return ROOT / "build" / "manifests" / f"{script.stem}.txt"
+def manifest_path(script, output_root=None):
+    """Where a run of ``script`` notes the files it reads and writes (and
+    the modules it imports, and its compile and CPU seconds)."""
+    folder = ROOT / "build" if output_root is None else Path(output_root)
+    return folder / "manifests" / f"{script.stem}.txt"
 
 
 def _coalesced(cell_outputs):
@@ -325,7 +336,10 @@ def main(names=()):
         state.record(script.stem, [script], reads, [*writes, target, paper.MACHINE],
                      before=before[script])
         written += [*writes, target, paper.MACHINE]
-        print(f"{script.relative_to(ROOT)}: {seconds:5.1f} s", flush=True)
+        costs = freshness.run_costs(manifest_path(script))
+        spent = (f" (CPU {costs['cpu']:.1f} s, of which compiling {costs['compile']:.1f} s)"
+                 if costs else "")
+        print(f"{script.relative_to(ROOT)}: {seconds:5.1f} s{spent}", flush=True)
     if chosen:
         print(f"{len(chosen)} notebooks run: {time.perf_counter() - total:5.1f} s "
               f"({JOBS} at a time)")

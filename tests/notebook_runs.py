@@ -2,6 +2,7 @@
 marker files by which workers tell each other that a notebook has finished
 (see the repository's conftest.py)."""
 
+import json
 import os
 import time
 from pathlib import Path
@@ -18,6 +19,15 @@ def notebook_of(item):
     if path.suffix == ".ipynb" and path.parent.name == "notebooks":
         return path.stem
     return None
+
+
+def reproduced():
+    """{stem: [its output files]} of the notebooks this session does not run
+    again: ``make reproduce`` ran them here with the inputs they have now,
+    and their outputs are as it wrote them (conftest.py, from
+    ``freshness.reproduced``; empty with ``RERUN=1`` or without a record, as
+    on a fresh clone)."""
+    return json.loads(os.environ.get("SPLINESTEP_REPRODUCED", "{}"))
 
 
 def done_marker(stem):

@@ -65,20 +65,42 @@ def test_loop_signatures_name_no_python_function():
         assert isinstance(signature[0], types.FunctionType)
 
 
-def test_a_change_to_any_file_of_the_package_changes_every_cache_stamp(tmp_path, monkeypatch):
+def test_a_cache_stamp_covers_the_modules_a_loop_imports_and_no_other(tmp_path, monkeypatch):
     """numba's own stamp covers a function's file only; ours covers the
-    package, so a constant changed in _base.py invalidates driver.py's loop."""
+    modules of the package it imports, directly or not: a constant changed
+    in _base.py invalidates driver.py's loop, an edit of an analysis module
+    or of a test problem invalidates nothing the loop is made of."""
     import shutil
     loop = splinestep.driver._drive
     locator = _compile._InTree.from_function(loop, loop.__code__.co_filename)
-    assert locator.get_source_stamp() == _compile.PACKAGE_STAMP
+    original = locator.get_source_stamp()
+    assert original == _compile.source_stamp(_compile.PACKAGE / "driver.py")
     copy = tmp_path / "splinestep"
     shutil.copytree(_compile.PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
     monkeypatch.setattr(_compile, "PACKAGE", copy)
-    assert _compile._package_stamp() == _compile.PACKAGE_STAMP
-    base = copy / "_base.py"
-    base.write_text(base.read_text().replace("SLIVER = 1e-9", "SLIVER = 1e-8"))
-    assert _compile._package_stamp() != _compile.PACKAGE_STAMP
+
+    def stamps():
+        monkeypatch.setattr(_compile, "_STAMPS", {})
+        return {name: _compile.source_stamp(copy / name)
+                for name in ("driver.py", "step.py", "analysis/conjugacy.py", "problems/chain.py")}
+
+    def edited(name, old, new):
+        path = copy / name
+        text = path.read_text()
+        assert old in text
+        path.write_text(text.replace(old, new))
+        return stamps()
+
+    first = stamps()
+    assert first["driver.py"] == original   # the copy stamps as the original
+    theory = edited("analysis/theory.py", '"""The method', '"""An edit. The method')
+    assert theory == first
+    chain = edited("problems/chain.py", "import numpy as np", "import numpy as np  # an edit")
+    assert {k: v for k, v in chain.items() if k != "problems/chain.py"} == \
+        {k: v for k, v in first.items() if k != "problems/chain.py"}
+    assert chain["problems/chain.py"] != first["problems/chain.py"]
+    base = edited("_base.py", "SLIVER = 1e-9", "SLIVER = 1e-8")
+    assert all(base[name] != chain[name] for name in base)   # every one imports _base
 
 
 CONTROL_MODULE = '''
@@ -141,7 +163,8 @@ def test_two_processes_saving_two_signatures_at_once_keep_each_its_own_code(tmp_
     monkeypatch.setattr(caching.IndexDataCacheFile, "_load_index", slow_load_index)
 
     def cache_file():
-        return caching.IndexDataCacheFile(str(tmp_path), "loop", _compile.PACKAGE_STAMP)
+        return caching.IndexDataCacheFile(str(tmp_path), "loop",
+                                           _compile.source_stamp(_compile.PACKAGE / "driver.py"))
 
     def save(key):
         cache_file().save(key, ("code for", key))
@@ -167,6 +190,7 @@ def test_a_file_system_without_locks_saves_and_loads_as_numba_does(tmp_path, mon
         raise OSError(errno.ENOLCK, "No locks available")
 
     monkeypatch.setattr(_compile.fcntl, "flock", no_locks)
-    cache_file = caching.IndexDataCacheFile(str(tmp_path), "loop", _compile.PACKAGE_STAMP)
+    cache_file = caching.IndexDataCacheFile(str(tmp_path), "loop",
+                                           _compile.source_stamp(_compile.PACKAGE / "driver.py"))
     cache_file.save("key", ("code for", "key"))
     assert cache_file.load("key") == ("code for", "key")

@@ -1,6 +1,6 @@
 """make reproduce reruns only what changed (scripts/freshness.py): a record
 of each notebook's inputs and outputs by content, so that a changed source,
-package file or data file read makes it stale, and so does a changed or
+module it imported or data file read makes it stale (a module it did not import does not), and so does a changed or
 missing output; file times play no part."""
 
 import os
@@ -20,8 +20,11 @@ def _repository(tmp_path):
     (tmp_path / "data" / "out.csv").write_text("b\n2\n")
     (tmp_path / "nb.py").write_text("# notebook\n")
     state = freshness.State(tmp_path / "build" / "state.json", tmp_path)
-    state.record("nb", [tmp_path / "nb.py"], reads=[tmp_path / "data" / "in.csv"],
+    # A module it imported is among what it read (outputs.note_run).
+    state.record("nb", [tmp_path / "nb.py"],
+                 reads=[tmp_path / "data" / "in.csv", tmp_path / "src" / "pkg" / "a.py"],
                  outputs=["data/out.csv"])
+    (tmp_path / "src" / "pkg" / "b.py").write_text("y = 1\n")   # a module it did not import
     return state
 
 
@@ -35,6 +38,8 @@ def test_a_notebook_is_up_to_date_until_an_input_or_output_changes(tmp_path):
     assert again.why_stale("other", sources) == "never run here"
     # Times alone change nothing.
     os.utime(tmp_path / "nb.py", (0, 0))
+    assert again.why_stale("nb", sources) is None
+    (tmp_path / "src" / "pkg" / "b.py").write_text("y = 2\n")
     assert again.why_stale("nb", sources) is None
     for path, text, why in [("src/pkg/a.py", "x = 2\n", "its inputs changed"),
                             ("data/in.csv", "a\n3\n", "its inputs changed"),
@@ -146,3 +151,33 @@ def test_outputs_notes_what_a_notebook_reads_and_writes(tmp_path):
     assert reads == [str(tmp_path / "data" / "x.csv")]
     assert writes == [str(tmp_path / "data" / "x.csv"), str(tmp_path / "figures" / "f.pdf"),
                       str(tmp_path / "figures" / "f.png")]
+
+
+def test_a_run_under_other_cpu_kernels_is_another_run(monkeypatch, tmp_path):
+    """make test-emulated (numpy's newer kernels off) does not count as the
+    run make reproduce made natively: its notebooks run again."""
+    state = _repository(tmp_path)
+    sources = [tmp_path / "nb.py"]
+    assert freshness.reproduced([tmp_path / "nb.py"], state) == {"nb": ["data/out.csv"]}
+    monkeypatch.setenv("NPY_DISABLE_CPU_FEATURES", "AVX512_ICL X86_V4 X86_V3")
+    assert state.why_stale("nb", sources) == "its inputs changed"
+    assert freshness.reproduced([tmp_path / "nb.py"], state) == {}
+
+
+def test_a_run_notes_the_modules_it_imported_and_its_costs(tmp_path):
+    """outputs.note_run, which make reproduce runs after a notebook's last
+    cell: the repository's modules the run imported, none it did not, and
+    its CPU and compile seconds (the compile seconds at most the CPU's)."""
+    import subprocess
+    manifest = tmp_path / "manifest.txt"
+    code = ("import sys; sys.path.insert(0, %r); import outputs, numpy as np, splinestep; "
+            "splinestep.solve(lambda t, y, yp: -y, (0, 1), np.ones(1), np.zeros(1), h=0.1); "
+            "outputs.note_run()") % str(ROOT / "scripts")
+    env = dict(os.environ, SPLINESTEP_MANIFEST=str(manifest), SPLINESTEP_OUTPUT=str(tmp_path))
+    subprocess.run([sys.executable, "-c", code], check=True, env=env)
+    reads, writes = freshness.read_manifest(manifest)
+    names = {Path(r).relative_to(ROOT).as_posix() for r in reads}
+    assert {"scripts/outputs.py", "src/splinestep/driver.py", "src/splinestep/step.py"} <= names
+    assert "src/splinestep/analysis/theory.py" not in names and writes == []
+    costs = freshness.run_costs(manifest)
+    assert 0 <= costs["compile"] <= costs["cpu"]

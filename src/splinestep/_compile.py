@@ -16,10 +16,12 @@ cost per evaluation.
 
 numba stamps a cached function with the contents of its own source file
 only, so a loop compiled with a constant from another module of the package
-would outlive a change of that constant.  Here every function of the package
-is stamped with the contents of all the package's files: any change to any
-of them recompiles, and a cache written by one version of the code is never
-loaded by another.
+would outlive a change of that constant.  Here a function of the package is
+stamped with the contents of its module and of every module of the package
+that module imports, directly or not (:func:`source_stamp`): a change to any
+of them recompiles it, a cache written by one version of that code is never
+loaded by another, and an edit of a module it does not depend on (an
+analysis module, a test problem it never calls) recompiles nothing.
 
 References
 ----------
@@ -27,37 +29,98 @@ References
    caching", https://numba.readthedocs.io
 """
 
+import ast
 import contextlib
 import hashlib
 import itertools
 import threading
+import time
 from pathlib import Path
 
 import numpy as np
 from numba import njit, objmode, typeof, types
-from numba.core import caching
+from numba.core import caching, event
 
 
 PACKAGE = Path(__file__).resolve().parent
 
 
-def _package_stamp():
-    digest = hashlib.sha256()
-    for path in sorted(PACKAGE.rglob("*.py")):
-        digest.update(path.relative_to(PACKAGE).as_posix().encode())
-        digest.update(path.read_bytes())
-    return digest.hexdigest()
+def _module_files(base, parts):
+    """The file of module ``parts`` below folder ``base``: ``x.py`` or ``x/__init__.py``."""
+    target = base.joinpath(*parts)
+    return [p for p in (target.with_suffix(".py"), target / "__init__.py") if p.is_file()]
 
 
-PACKAGE_STAMP = _package_stamp()
+def package_imports(path):
+    """The files of this package that the module at ``path`` imports
+    directly (``from .x import f``, ``from . import x``, ``from .. import
+    problems``, ``import splinestep.x``)."""
+    path = Path(path)
+    found = set()
+    for node in ast.walk(ast.parse(path.read_bytes())):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                parts = alias.name.split(".")
+                if parts[0] == PACKAGE.name:
+                    found.update(_module_files(PACKAGE.parent, parts))
+            continue
+        if not isinstance(node, ast.ImportFrom):
+            continue
+        if node.level:
+            base = path.parent
+            for _ in range(node.level - 1):
+                base = base.parent
+        elif (node.module or "").split(".")[0] == PACKAGE.name:
+            base = PACKAGE.parent
+        else:
+            continue
+        parts = [p for p in (node.module or "").split(".") if p]
+        submodules = [f for alias in node.names for f in _module_files(base, parts + [alias.name])]
+        found.update(submodules)
+        if parts or len(submodules) < len(node.names):   # names from a module or __init__
+            found.update(_module_files(base, parts))
+    return {f.resolve() for f in found if f.resolve().is_relative_to(PACKAGE)}
+
+
+def dependencies(path):
+    """The module at ``path`` and every module of the package it imports,
+    directly or through others."""
+    done, todo = set(), [Path(path).resolve()]
+    while todo:
+        current = todo.pop()
+        if current not in done:
+            done.add(current)
+            todo.extend(package_imports(current) - done)
+    return done
+
+
+_STAMPS = {}
+
+
+def source_stamp(path):
+    """The stamp of the cached numba functions defined in the module at
+    ``path``: the contents of that module and of every module of the
+    package it imports (:func:`dependencies`), so that a constant changed
+    in ``_base.py`` recompiles the loops that use it, and an edit of a
+    module no compiled function depends on (an analysis module) recompiles
+    nothing.  Computed once per process and module."""
+    path = Path(path).resolve()
+    if path not in _STAMPS:
+        digest = hashlib.sha256()
+        for file in sorted(dependencies(path)):
+            digest.update(file.relative_to(PACKAGE).as_posix().encode() + b"\0")
+            digest.update(file.read_bytes())
+        _STAMPS[path] = digest.hexdigest()
+    return _STAMPS[path]
 
 
 class _PackageStamp:
     """A numba cache locator mixin: functions of this package are stamped
-    with the whole package's contents (:data:`PACKAGE_STAMP`)."""
+    with the contents of their module and of the package's modules it
+    imports (:func:`source_stamp`)."""
 
     def get_source_stamp(self):
-        return PACKAGE_STAMP
+        return source_stamp(self._py_file)
 
     @classmethod
     def from_function(cls, py_func, py_file):
@@ -76,6 +139,34 @@ class _InTree(_PackageStamp, caching.InTreeCacheLocator):
 
 class _UserWide(_PackageStamp, caching.UserWideCacheLocator):
     pass
+
+
+class _CompileTime(event.Listener):
+    """The CPU seconds numba spends compiling in this process (its
+    "numba:compile" events, nested ones counted once; loading from the
+    cache is not compiling), for make reproduce's per-notebook costs."""
+
+    def __init__(self):
+        self.depth, self.seconds, self.start = 0, 0.0, 0.0
+
+    def on_start(self, event):
+        if self.depth == 0:
+            self.start = time.process_time()
+        self.depth += 1
+
+    def on_end(self, event):
+        self.depth -= 1
+        if self.depth == 0:
+            self.seconds += time.process_time() - self.start
+
+
+_COMPILING = _CompileTime()
+event.register("numba:compile", _COMPILING)
+
+
+def compile_seconds():
+    """CPU seconds numba has spent compiling in this process so far."""
+    return _COMPILING.seconds
 
 
 # Tried first, in numba's own order; other modules fall through to numba's.
@@ -122,7 +213,7 @@ def _lock_file(cache_file):
     function outside the package, or no cache folder yet: nothing to load).
     A lock file another user owns, which cannot be opened for writing, is
     locked through a read-only handle (flock does not need write access)."""
-    if cache_file._source_stamp != PACKAGE_STAMP:
+    if cache_file._source_stamp not in _STAMPS.values():
         return None
     path = cache_file._index_path + ".lock"
     for mode in ("a", "r"):
