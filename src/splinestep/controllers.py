@@ -132,8 +132,9 @@ def reversible(tf, eps, rho0, max_steps):
 @njit(cache=True, inline="always")
 def rounding_floor(t, t0, tf):
     """The smallest step the error controller takes at ``t`` on the span
-    (t0, tf): 16 ulps of the larger of |t| and the span (a step below it
-    does not change t reliably)."""
+    (t0, tf): 16 machine epsilons times the larger of |t| and the span
+    (16 to 32 of its ulps; a step below it does not change t reliably).
+    It bounds ``max_step`` too: a smaller one is refused by the front door."""
     return 16.0 * np.finfo(np.float64).eps * max(abs(t), abs(tf - t0))
 
 
