@@ -13,7 +13,8 @@
 #   make test        build .venv, run pytest: the package's tests, and nbval on every
 #                    notebook but those make reproduce ran here with the inputs they have
 #                    now (their printed lines, data and figures are compared with git
-#                    HEAD's instead); RERUN=1 runs every notebook
+#                    HEAD's instead); RERUN=1 runs every notebook; JUNIT=1 writes each
+#                    test's seconds to build/junit.xml
 #   make bench       speed benchmark (compiled, plain Python, scipy, C) and cost against
 #                    the number of equations (benchmarks/scaling.py)
 #   make lab         JupyterLab at the repository root, .py <-> .ipynb pairs active
@@ -77,7 +78,7 @@ JOBS ?= 2
 PYTEST := $(BIN)/python -m pytest -n $(JOBS) --dist loadfile --no-loadscope-reorder
 
 test: $(STAMP) $(FAST_IMPORT)
-	SPLINESTEP_RERUN=$(RERUN) $(PYTEST)
+	SPLINESTEP_RERUN=$(RERUN) $(PYTEST) $(if $(JUNIT),--junitxml=build/junit.xml)
 
 test-emulated: $(STAMP) $(FAST_IMPORT)
 	SPLINESTEP_RERUN=$(RERUN) $(EMULATED_CPU) $(PYTEST)

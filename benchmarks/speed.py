@@ -16,11 +16,17 @@ between the markers ``<!-- begin bench -->`` and ``<!-- end bench -->``):
   with numba's disk cache warm and with it empty, numba's own first-call
   cost, and the CPU seconds of compiling every path for a new compiled
   right-hand-side type (benchmarks/compile_time.py);
+- the hot loop (Kepler, a fun returning an array and one returning a
+  tuple) beside the same run with the package of commit 987c56f, whose
+  loops were separate (before the one driver), extracted by ``git
+  archive`` into build/;
 - the two commands as a reader meets them: a fresh clone of the committed
   state (``git clone`` of this repository), ``make reproduce`` (which
   installs .venv from environment.txt, pip's download cache as it is, and
   compiles the loops into an empty numba cache), then ``make test``, then
-  both again warm; with each notebook's time in each ``make reproduce``.
+  both again warm, then ``make test RERUN=1``; with each notebook's wall,
+  CPU and compile seconds in the fresh clone's ``make reproduce`` and each
+  test file's seconds.
 
 Times are medians of several runs; ratios compare rows of the same run.
 ``python benchmarks/speed.py --quick`` skips the two commands and leaves
@@ -276,7 +282,8 @@ def whole_trajectory_rows(repeats=5):
             x, np.zeros((2, n)), tol=1e-8), repeats)
         rows.append([f"Bratu, {n} points: scipy solve_bvp (tol 1e-8)", f"{theirs * 1e3:.1f} ms",
                      "1.00"])
-        rows.append([f"Bratu, {n} points: splinestep.solve_bvp", f"{ours * 1e3:.1f} ms",
+        rows.append([f"Bratu, {n} points: splinestep.solve_bvp (tol=inf: this mesh, no refinement)",
+                     f"{ours * 1e3:.1f} ms",
                      f"{ours / theirs:.2f}"])
     return rows
 
@@ -305,7 +312,8 @@ def thread_rows(repeats=3):
              f"{both / one_by_one:.2f}"]]
 
 
-NOTEBOOK_LINE = re.compile(r"^notebooks/(\S+)\.py:\s+([\d.]+) s$", re.M)
+NOTEBOOK_LINE = re.compile(r"^notebooks/(\S+)\.py:\s+([\d.]+) s \(CPU ([\d.]+) s, of which "
+                           r"compiling ([\d.]+) s\)$", re.M)
 
 
 def command_rows():
@@ -315,17 +323,18 @@ def command_rows():
     env = {k: v for k, v in os.environ.items()
            if not k.startswith(("NUMBA_", "SPLINESTEP_", "VIRTUAL_ENV"))}
     runs = (("make reproduce, fresh clone: install, compile, run", "reproduce"),
-            ("make test, right after", "test"),
+            ("make test, right after (notebooks not run again)", "test"),
             ("make reproduce, again (nothing changed: nothing reruns)", "reproduce"),
-            ("make test, again (warm)", "test"))
-    rows, notebooks = [], {}
+            ("make test, again (warm)", "test"),
+            ("make test RERUN=1 (every notebook under nbval too)", "test RERUN=1 JUNIT=1"))
+    rows, notebooks, test_files = [], {}, {}
     with tempfile.TemporaryDirectory(prefix="splinestep-clone-") as folder:
         clone = Path(folder) / "splinestep"
         subprocess.run(["git", "clone", "--quiet", str(ROOT), str(clone)], check=True)
         for label, target in runs:
             start = time.perf_counter()
-            done = subprocess.run(["make", target], cwd=clone, env=env, capture_output=True,
-                                  text=True)
+            done = subprocess.run(["make", *target.split()], cwd=clone, env=env,
+                                  capture_output=True, text=True)
             seconds = time.perf_counter() - start
             if done.returncode:
                 log = ROOT / "build" / f"bench-make-{target}.log"
@@ -334,10 +343,92 @@ def command_rows():
                 raise RuntimeError(f"make {target} failed in the clone (its whole output: "
                                    f"{log}):\n{done.stdout[-3000:]}\n{done.stderr[-3000:]}")
             rows.append((label, seconds))
-            for name, value in NOTEBOOK_LINE.findall(done.stdout):
-                notebooks.setdefault(name, []).append(float(value))
+            for name, *values in NOTEBOOK_LINE.findall(done.stdout):
+                notebooks.setdefault(name, []).append([float(v) for v in values])
+            if "JUNIT=1" in target:
+                test_files = seconds_per_test_file(clone / "build" / "junit.xml")
     rows.insert(2, ("both, fresh clone", rows[0][1] + rows[1][1]))
-    return rows, notebooks
+    return rows, notebooks, test_files
+
+
+def seconds_per_test_file(junit):
+    """{test file: (tests, seconds)} from pytest's JUnit XML (seconds summed
+    over the two workers: CPU-bound, so about CPU seconds)."""
+    import xml.etree.ElementTree as ET
+    files = {}
+    for case in ET.parse(junit).iter("testcase"):
+        parts = case.get("classname", "").split(".")
+        name = "/".join(parts[:2]) if parts[0] == "tests" else parts[0]
+        count, seconds = files.get(name, (0, 0.0))
+        files[name] = (count + 1, seconds + float(case.get("time", 0.0)))
+    return dict(sorted(files.items(), key=lambda item: -item[1][1]))
+
+
+# The hot loop beside the separate loops of commit 987c56f (before the one
+# driver), the same script and right-hand sides in new processes, alternated.
+REFERENCE_COMMIT = "987c56f"
+HOT_LOOP = '''
+import sys, time
+import numpy as np
+from numba import njit
+import splinestep
+
+@njit
+def kepler_array(t, y, yp):
+    r = np.sqrt(y[0] ** 2 + y[1] ** 2)
+    return -y / r ** 3
+
+@njit
+def kepler_tuple(t, y, yp):
+    r2 = y[0] * y[0] + y[1] * y[1]
+    f = -1.0 / (r2 * np.sqrt(r2))
+    return (f * y[0], f * y[1])
+
+fun = kepler_array if sys.argv[1] == "array" else kepler_tuple
+y0, v0, te = np.array([1.0, 0.0]), np.array([0.0, 1.0]), np.linspace(0.0, 1000.0, 11)
+splinestep.solve(fun, (0, 1000), y0, v0, h=0.001, t_eval=te)
+best = []
+for _ in range(5):
+    start = time.perf_counter()
+    sol = splinestep.solve(fun, (0, 1000), y0, v0, h=0.001, t_eval=te)
+    best.append(time.perf_counter() - start)
+print(min(best) / sol.nfev)
+'''
+
+
+def reference_rows(rounds=3):
+    """(label, ns per evaluation, ratio) of the Kepler run (h = 0.001, t in
+    [0, 1000], 11 requested times, the step-size check on) with this
+    package and with commit 987c56f's, for a fun returning an array and
+    one returning a tuple; each the best of 5 solves in a new process,
+    the median of ``rounds`` processes alternated with the other's."""
+    folder = ROOT / "build" / f"bench-{REFERENCE_COMMIT}"
+    if not (folder / "src").is_dir():
+        folder.mkdir(parents=True, exist_ok=True)
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", REFERENCE_COMMIT, "src"],
+                                 capture_output=True)
+        if archive.returncode:
+            return [(f"commit {REFERENCE_COMMIT} not in this clone's history", None, None)]
+        subprocess.run(["tar", "-x", "-C", str(folder)], input=archive.stdout, check=True)
+    old_env = {"PYTHONPATH": str(folder / "src"), "NUMBA_CACHE_DIR": str(folder / "cache")}
+
+    def per_eval(kind, env):
+        out = subprocess.run([sys.executable, "-c", HOT_LOOP, kind], capture_output=True,
+                             text=True, check=True, env=dict(os.environ, **env))
+        return float(out.stdout.split()[-1])
+
+    rows = []
+    for kind in ("array", "tuple"):
+        old, new = [], []
+        for _ in range(rounds):
+            old.append(per_eval(kind, old_env))
+            new.append(per_eval(kind, {}))
+        old, new = statistics.median(old), statistics.median(new)
+        rows += [(f"fun returns {'an array' if kind == 'array' else 'a tuple'}: "
+                  f"commit {REFERENCE_COMMIT} (separate loops)", old * 1e9, 1.0),
+                 (f"fun returns {'an array' if kind == 'array' else 'a tuple'}: this package",
+                  new * 1e9, new / old)]
+    return rows
 
 
 def table(header, rows):
@@ -377,18 +468,32 @@ def main(quick=False):
     lines += table(["solve", "time", "ratio to the first of its pair"],
                    whole_trajectory_rows() + thread_rows())
     lines.append("")
+    lines += ["**The hot loop against the separate loops of commit 987c56f** (Kepler, "
+              "h = 0.001, t in [0, 1000], 11 requested times; best of 5 solves per process, "
+              "median of 3 processes, alternated)", ""]
+    lines += table(["loop", "time per evaluation", "ratio to 987c56f"],
+                   [[label, "-" if ns is None else f"{ns:.1f} ns",
+                     "-" if ratio is None else f"{ratio:.3f}"]
+                    for label, ns, ratio in reference_rows()])
+    lines.append("")
     process = process_rows()
     lines += table(["process", "seconds"], [[label, f"{s:.2f}"] for label, s in process])
     if not quick:
-        commands, notebooks = command_rows()
+        commands, notebooks, test_files = command_rows()
         lines += ["", "**The two commands** on a fresh clone of the committed state "
                   "(pip's download cache as it was)", ""]
         lines += table(["command", "seconds"], [[label, f"{s:.0f}"] for label, s in commands])
-        lines += ["", "**Each notebook** in `make reproduce` (two at a time; the claims "
-                  "notebook from the moment the others are done)", ""]
-        lines += table(["notebook", "fresh clone (compiles), s"],
-                       [[name, *(f"{v:.1f}" for v in values)]
+        lines += ["", "**Each notebook** in the fresh clone's `make reproduce` (two at a time; "
+                  "the claims notebook from the moment the others are done): wall seconds, "
+                  "its kernel's CPU seconds and the part of them numba spent compiling", ""]
+        lines += table(["notebook", "wall, s", "CPU, s", "compiling, s"],
+                       [[name, *(f"{v:.1f}" for v in values[0])]
                         for name, values in sorted(notebooks.items())])
+        lines += ["", "**Each test file** in `make test RERUN=1` (seconds summed over its "
+                  "tests, on two workers)", ""]
+        lines += table(["test file", "tests", "seconds"],
+                       [[name, str(count), f"{seconds:.1f}"]
+                        for name, (count, seconds) in test_files.items()])
     text = "\n".join(lines)
     print(text)
     if not quick:

@@ -282,3 +282,43 @@ def test_the_step_size_warning_points_at_the_caller():
         splinestep.solve_reversible(oscillator, (0, 30), 1.0, 0.0, 2.5, zero_control,
                                     iteration="newton")
     assert caught[0].filename == caught_reversible[0].filename == __file__
+
+
+def _events_of(problem):
+    def crossing(t, y, yp, *args):
+        return y[1] - 0.5
+    crossing.terminal = False
+    return [crossing]
+
+
+@pytest.mark.parametrize("case", ["uniform", "adaptive", "t_eval", "events", "knots"])
+def test_the_sweep_loop_is_the_driver_to_the_last_bit(monkeypatch, case):
+    """Runs of the fixed-point sweep take their own compiled loop
+    (driver._sweep_drive, the driver without the other steps' branches, its
+    vectors apart): every number of its result equals the whole driver's
+    (driver._drive) bit for bit, on a uniform and an adaptive run, with
+    t_eval, with events and on given knots."""
+    p = problems.cannonball(0.5)
+    span = (0.0, 3.0)
+    options = {"uniform": dict(h=0.01), "adaptive": dict(rtol=1e-6, atol=1e-9),
+               "t_eval": dict(h=0.01, t_eval=np.linspace(0.0, 3.0, 7)),
+               "events": dict(h=0.01, events=_events_of(p)),
+               "knots": dict(knots=3.0 * np.linspace(0.0, 1.0, 301) ** 1.5)}[case]
+
+    def run():
+        h = options.pop("h", None) if "h" in options else None
+        res = splinestep.solve(p.fun, span, p.y0, p.yp0, h, args=p.args, **options)
+        if h is not None:
+            options["h"] = h
+        return res
+
+    own = run()
+    monkeypatch.setattr(driver, "_sweep_drive", driver._drive)
+    whole = run()
+    assert own.success and whole.success
+    for key in ("t", "y", "yp", "ypp", "nfev", "nstep", "niter", "n_rejected", "local_error"):
+        assert np.array_equal(np.asarray(own[key]), np.asarray(whole[key]), equal_nan=True), key
+    if case == "events":
+        assert own.t_events[0].size > 0
+        assert np.array_equal(own.t_events[0], whole.t_events[0])
+        assert np.array_equal(own.y_events[0], whole.y_events[0])

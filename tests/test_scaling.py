@@ -322,3 +322,23 @@ def test_a_singular_sparse_newton_matrix_fails_with_where_and_why():
     assert res.status == -1 and res.nstep == 0
     assert res.message.startswith("Step 1 (from t = 0 to t = 0.01) failed: Newton's matrix "
                                   "could not be built at t = 0.01: RuntimeError")
+
+
+@pytest.mark.parametrize("h", [0.01, None], ids=["uniform", "adaptive"])
+def test_knots_beyond_the_free_memory_end_the_run_with_status_minus_1(monkeypatch, h):
+    """Storing every knot of a large system over a long span would exhaust
+    the memory (m = 10,000 over a million steps: 240 GB): the run stops
+    where the free memory is used (here 50 knots, as if no more were free)
+    with status -1, the knots stored so far, which are those of the whole
+    run, and a message that says to pass t_eval, not with a MemoryError."""
+    from splinestep import driver
+    problem = problems.chain(3)
+    whole = splinestep.solve(problem.fun, (0, 5), problem.y0, problem.yp0, h, args=problem.args,
+                             check=False)
+    assert whole.success and whole.t.size > 60
+    monkeypatch.setattr(driver, "max_knots", lambda m: 50)
+    cut = splinestep.solve(problem.fun, (0, 5), problem.y0, problem.yp0, h, args=problem.args,
+                           check=False)
+    assert cut.status == -1 and "t_eval" in cut.message and "memory" in cut.message
+    assert cut.t.size == 50 and np.array_equal(cut.t, whole.t[:50])
+    assert np.array_equal(cut.y, whole.y[:, :50])

@@ -26,7 +26,13 @@ it is the hot path that ``make bench`` holds against C), :data:`COMPOSED`
 a symmetric composition of spline steps (:func:`step.composed_step`),
 :data:`RK4` and :data:`VERLET` the baselines (:mod:`splinestep._explicit`).
 A new method is a new kind here and one branch of the step dispatch in
-:func:`_drive`.
+:func:`_drive`.  Spline steps by the fixed-point sweep under the constant
+or the error controller (the commonest runs) take :func:`_sweep_drive`, the
+same loop without the other branches and with its vectors apart: it
+compiles in less than half the time (``benchmarks/compile_time.py``) and
+runs as fast as the separate loops of before the one driver (``make
+bench``); its results equal :func:`_drive`'s to the last bit
+(``tests/test_driver.py``).
 
 Settings travel as named tuples (``step.Method`` with its ``Iteration``,
 ``controllers.Control`` with its ``Vectors``, :class:`Saving`), and the loop
@@ -34,8 +40,9 @@ returns one (:class:`Run`), so the compiled code has ten named arguments
 instead of twenty positional ones.  The method, its iteration and the
 controller are chosen at run time, so numba compiles (and caches) one loop
 per type of ``fun``, ``args``, ``jac`` and ``control``
-(:mod:`splinestep._compile`), whatever the path: a new type of ``fun`` costs
-one compilation, not one per method and controller, and no two compiled
+(:mod:`splinestep._compile`), whatever the path (two with the sweep's own
+loop): a new type of ``fun`` costs one or two compilations, not one per
+method and controller, and no two compiled
 loops share a name (loops specialised by closure constants share their
 symbol names, which a process loading two of them from the disk cache, each
 compiled by another process, may link to the wrong one).  The run-time
@@ -48,6 +55,7 @@ arrays grow outside the stepping loop), costs reference counting at every
 step.
 """
 
+import os
 from collections import namedtuple
 
 import numpy as np
@@ -59,7 +67,7 @@ from ._base import FD_STEP, as_vector, wrong_length
 from ._explicit import rk4_step, verlet_step
 from .controllers import CONSTANT, ERROR, REVERSIBLE, first_size, judge, propose
 from .result import HermiteSolution, SplineSolution, new_result, quintic_coefficients
-from .status import BAD_SHAPE, EVENT_FAILED, OK, TERMINAL_EVENT, message
+from .status import BAD_SHAPE, EVENT_FAILED, OK, OUT_OF_MEMORY, TERMINAL_EVENT, message
 from .step import (FIXED_POINT, Iteration, Method, State, _value_status, composed_step,
                    local_errors, newton_call, step_state, sweep_step)
 
@@ -78,10 +86,25 @@ def dense_kind(kind):
         return CUBIC
     return QUINTIC if kind == COMPOSED else HERMITE
 
-Saving = namedtuple("Saving", "t_eval store events")
+Saving = namedtuple("Saving", "t_eval store events max_knots")
 Saving.__doc__ = """What the driver keeps: values at ``t_eval`` (may be
-empty), every knot when ``store`` (else the first only), and the key of the
-events' tracker (:mod:`splinestep.events`), negative for none."""
+empty), every knot when ``store`` (else the first only), at most
+``max_knots`` of them (what the free memory holds, :func:`max_knots`: the
+run stops with OUT_OF_MEMORY at that many, not with a MemoryError that
+would lose it), and the key of the events' tracker
+(:mod:`splinestep.events`), negative for none."""
+
+
+def max_knots(m):
+    """How many knots of ``m`` components (t, y, y', y'', rho) a third of
+    the memory that is free now holds: the result copies them once more,
+    and the rest is the caller's.  From ``os.sysconf`` where it tells
+    (Linux, macOS), else unbounded."""
+    try:
+        free = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):
+        return 2**62
+    return max(2, (free // 3) // ((3 * m + 2) * 8))
 
 Run = namedtuple("Run", "status last_status rate fail_step t_last t_fail nfev njev niter attempts "
                         "nstep n_rejected n_failed n_knots n_eval T K RHO E estimate "
@@ -141,10 +164,12 @@ _Y, _YP, _YPP, _Y1, _YP1, _Z, _JERK, _JERK1, _Y_ERR, _YP_ERR = range(10)
 
 
 @njit(cache=True)
-def _grow(T, K, RHO):
-    """The knot arrays with twice the rows, the first ones copied."""
+def _grow(T, K, RHO, most):
+    """The knot arrays with twice the rows (at most ``most``), the first
+    ones copied."""
     n = T.shape[0]
-    T2, K2, RHO2 = np.empty(2 * n), np.empty((2 * n,) + K.shape[1:]), np.empty(2 * n)
+    rows = min(2 * n, most)
+    T2, K2, RHO2 = np.empty(rows), np.empty((rows,) + K.shape[1:]), np.empty(rows)
     T2[:n] = T
     K2[:n] = K
     RHO2[:n] = RHO
@@ -184,10 +209,11 @@ def _fill_eval(t_eval, n_eval, t, t_end, dt, kind, vec, E, direction):
 
 
 @njit(cache=True, inline="always")
-def _estimate(acc, y_new, yp_new, jerk1, jerk0, dt, dt_prev, t, have_jump):
+def _estimate(acc, y_new, yp_new, z, ypp, jerk1, jerk0, dt, dt_prev, t, have_jump):
     """After the accepted spline step of size ``dt`` from the knot ``t`` to
-    (``y_new``, ``yp_new``), whose third derivative is ``jerk1`` (``jerk0``
-    on the step before): the accumulators ``acc`` (a tuple indexed by _E_Y
+    (``y_new``, ``yp_new``, ``z``), from y'' = ``ypp``: its third derivative
+    into ``jerk1`` (``jerk0`` on the step before; one pass over the
+    components for both) and the accumulators ``acc`` (a tuple indexed by _E_Y
     ... _E_SUM_YP) updated with the largest |y|, |y'| (the step's end
     included), the first and last steps, and (after the first step) the
     largest estimated local errors (see ``step.local_errors``) and their
@@ -202,6 +228,7 @@ def _estimate(acc, y_new, yp_new, jerk1, jerk0, dt, dt_prev, t, have_jump):
     e_last = dt if not have_jump or abs(dt) >= abs(dt_prev) else dt_prev
     jump = 0.0
     for k in range(y_new.shape[0]):
+        jerk1[k] = (z[k] - ypp[k]) / dt
         y_scale = max(y_scale, abs(y_new[k]))
         yp_scale = max(yp_scale, abs(yp_new[k]))
         jump = max(jump, abs(jerk1[k] - jerk0[k]))
@@ -267,7 +294,7 @@ def _start(ctrl, saving, t0, y0, yp0, ypp0):
     vec[_Y], vec[_YP], vec[_YPP], vec[_Y_ERR], vec[_YP_ERR] = y0, yp0, ypp0, y0, yp0
     rows = 1
     if saving.store:
-        rows = ctrl.n + 1 if ctrl.kind == CONSTANT else 256
+        rows = min(ctrl.n + 1 if ctrl.kind == CONSTANT else 256, saving.max_knots)
     T, K, RHO = np.empty(rows), np.empty((rows, 3, m)), np.zeros(rows)
     _put(T, K, RHO, 0, t0, vec, np.nan)
     y_scale, yp_scale = 0.0, 0.0
@@ -307,9 +334,8 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
     helpers costs reference counting at every step."""
     # The step and the controller are chosen here, at run time: one compiled
     # loop serves every method and controller for a given type of fun.
-    step_kind, control_kind = method.kind, ctrl.kind
+    step_kind, control_kind, spline_steps = method.kind, ctrl.kind, method.kind <= COMPOSED
     sweep = step_kind == SPLINE and method.iteration.mode == FIXED_POINT
-    spline_steps = step_kind <= COMPOSED
     t0, y0, yp0, ypp0 = start
     knots, atol, rtol = vectors.knots, vectors.atol, vectors.rtol
     m, it, kind, t_eval = y0.shape[0], method.iteration, dense_kind(method.kind), saving.t_eval
@@ -339,7 +365,10 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
     done = False
     while status == OK and not done:
         if store and n_knots == T.shape[0]:
-            T, K, RHO = _grow(T, K, RHO)
+            if n_knots >= saving.max_knots:
+                status, fail_step = OUT_OF_MEMORY, attempts + 1
+                break
+            T, K, RHO = _grow(T, K, RHO, saving.max_knots)
         while status == OK and not (store and n_knots == T.shape[0]):
             status, t_new, done = propose(ctrl, knots, t0, t, attempts, accepted, size, rho)
             if done or status != OK:
@@ -363,7 +392,7 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
                                                        yp_new, z, velocity)
             nfev, njev, niter, attempts, last_status, last_rate = (
                 nfev + fe, njev + je, niter + ni, attempts + 1, status, rate)
-            if spline_steps:
+            if spline_steps and control_kind == ERROR:   # what judge reads (as _estimate)
                 for k in range(m):
                     jerk1[k] = (z[k] - ypp[k]) / dt
             if control_kind == ERROR:
@@ -380,7 +409,8 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
                 break
             if spline_steps:
                 largest = acc[_E_Y]
-                acc = _estimate(acc, y_new, yp_new, jerk1, jerk0, dt, dt_prev, t, accepted > 0)
+                acc = _estimate(acc, y_new, yp_new, z, ypp, jerk1, jerk0, dt, dt_prev, t,
+                                accepted > 0)
                 if acc[_E_Y] > largest:   # the state where the error of y is largest
                     vec[_Y_ERR], vec[_YP_ERR] = y, yp
             stop, t_end = 0, t_new
@@ -408,9 +438,125 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
             elif control_kind == REVERSIBLE:
                 rho += direction * ctrl.eps * control(t, y, yp, *control_args)
     return Run(status, last_status, last_rate, -1 if status == OK else fail_step, t, t_new,
-               nfev, njev,
-               niter, attempts, accepted, n_rejected, n_failed, n_knots, n_eval, T, K, RHO, E,
-               np.array(acc), vec[_Y_ERR].copy(), vec[_YP_ERR].copy(), y.copy(), yp.copy())
+               nfev, njev, niter, attempts, accepted, n_rejected, n_failed, n_knots, n_eval, T,
+               K, RHO, E, np.array(acc), vec[_Y_ERR].copy(), vec[_YP_ERR].copy(), y.copy(),
+               yp.copy())
+
+
+@njit(cache=True, inline="always")
+def _to_rows(vec, y, yp, ypp, y_new, yp_new, z):
+    """The sweep loop's own vectors into the rows of ``vec`` that the
+    helpers shared with :func:`_drive` read (events, t_eval)."""
+    for k in range(vec.shape[1]):
+        vec[_Y, k], vec[_YP, k], vec[_YPP, k] = y[k], yp[k], ypp[k]
+        vec[_Y1, k], vec[_YP1, k], vec[_Z, k] = y_new[k], yp_new[k], z[k]
+
+
+def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving, start):
+    """:func:`_drive` for spline steps by the fixed-point sweep (order 2)
+    under the constant or the error controller: the same helpers, in the
+    same order, so the same numbers to the last bit
+    (``tests/test_driver.py``), without the other steps' and the
+    reversible controller's branches.  A run of this kind (the commonest)
+    compiles this loop alone, and its state lives in vectors of its own,
+    not in rows of one buffer: the compiler then knows that y and y_new do
+    not overlap and keeps the sweep as fast as the separate loops were
+    (``make bench``); they are copied into the buffer's rows only where a
+    shared helper reads them (an event's search, a requested time)."""
+    control_kind = ctrl.kind
+    t0, y0, yp0, ypp0 = start
+    knots, atol, rtol = vectors.knots, vectors.atol, vectors.rtol
+    m, it, kind, t_eval = y0.shape[0], method.iteration, dense_kind(method.kind), saving.t_eval
+    vec, T, K, RHO, E, acc = _start(ctrl, saving, t0, y0, yp0, ypp0)
+    kept = step_state(m, 1, False)
+    ev_out = np.empty((3, m))
+    work = kept.work
+    store, events = saving.store, saving.events
+    nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
+    direction = 1.0 if ctrl.tf > t0 else -1.0
+    status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
+    last_rate = np.nan
+    n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
+    dt_prev, after_reject = 0.0, False
+    if status == OK:
+        status, nfev, n_eval, rho = _begin(fun, args, control, control_args, ctrl, t0, kind,
+                                           vec, E, t_eval)
+    y, yp, ypp, jerk0 = vec[_Y].copy(), vec[_YP].copy(), vec[_YPP].copy(), vec[_JERK].copy()
+    y_new, yp_new, z, jerk1 = np.empty(m), np.empty(m), np.empty(m), np.empty(m)
+    # The knot arrays grow outside the stepping loop: arrays rebound
+    # inside it would cost reference counting at every step.
+    done = False
+    while status == OK and not done:
+        if store and n_knots == T.shape[0]:
+            if n_knots >= saving.max_knots:
+                status, fail_step = OUT_OF_MEMORY, attempts + 1
+                break
+            T, K, RHO = _grow(T, K, RHO, saving.max_knots)
+        while status == OK and not (store and n_knots == T.shape[0]):
+            status, t_new, done = propose(ctrl, knots, t0, t, attempts, accepted, size, rho)
+            if done or status != OK:
+                fail_step = attempts + 1
+                break
+            dt = t_new - t
+            status, fe, je, ni, rate = sweep_step(fun, args, t_new, dt, y, yp, ypp, z,
+                                                  y_new, yp_new, it, work)
+            nfev, njev, niter, attempts, last_status, last_rate = (
+                nfev + fe, njev + je, niter + ni, attempts + 1, status, rate)
+            if control_kind == ERROR:
+                for k in range(m):   # what judge reads (_estimate writes it too)
+                    jerk1[k] = (z[k] - ypp[k]) / dt
+                keep, size = judge(ctrl, vectors, status, dt, dt_prev, jerk1, jerk0, y, yp,
+                                   y_new, yp_new, after_reject)
+                after_reject = not keep
+                if not keep:
+                    n_rejected += int(status == OK)
+                    n_failed += int(status != OK)
+                    status = OK
+                    continue
+            elif status != OK:
+                fail_step = attempts
+                break
+            largest = acc[_E_Y]
+            acc = _estimate(acc, y_new, yp_new, z, ypp, jerk1, jerk0, dt, dt_prev, t,
+                                accepted > 0)
+            if acc[_E_Y] > largest:   # the state where the error of y is largest
+                vec[_Y_ERR], vec[_YP_ERR] = y, yp
+            stop, t_end = 0, t_new
+            if events >= 0.0:
+                _to_rows(vec, y, yp, ypp, y_new, yp_new, z)
+                stop, t_ev = _compile.python_events(events, t, t_new, kind, vec[:6], ev_out)
+                t_end = t_ev if stop == 1 else t_new
+            if n_eval < t_eval.shape[0] and direction * (t_eval[n_eval] - t_end) <= 0.0:
+                _to_rows(vec, y, yp, ypp, y_new, yp_new, z)
+                n_eval = _fill_eval(t_eval, n_eval, t, t_end, dt, kind, vec, E, direction)
+            if stop == 2:
+                status, fail_step = EVENT_FAILED, attempts
+                break
+            if stop == 1 and t_end == t:
+                # A terminal zero at the step's start (where the last
+                # step ended on it to rounding): the run ends at its
+                # last knot, not at a second knot of the same time.
+                status = TERMINAL_EVENT
+                break
+            # The end of the step (or the terminal event's state) becomes
+            # the start of the next (as _advance does for _drive).
+            for k in range(m):
+                if stop == 1:
+                    y_new[k], yp_new[k], z[k] = ev_out[0, k], ev_out[1, k], ev_out[2, k]
+                y[k], yp[k], ypp[k], jerk0[k] = y_new[k], yp_new[k], z[k], jerk1[k]
+            t, dt_prev, accepted = t_end, dt, accepted + 1
+            if store:
+                T[n_knots] = t
+                RHO[n_knots] = rho
+                for k in range(m):
+                    K[n_knots, 0, k], K[n_knots, 1, k], K[n_knots, 2, k] = y[k], yp[k], ypp[k]
+                n_knots += 1
+            if stop == 1:
+                status = TERMINAL_EVENT
+    return Run(status, last_status, last_rate, -1 if status == OK else fail_step, t, t_new,
+               nfev, njev, niter, attempts, accepted, n_rejected, n_failed, n_knots, n_eval, T,
+               K, RHO, E, np.array(acc), vec[_Y_ERR].copy(), vec[_YP_ERR].copy(), y.copy(),
+               yp.copy())
 
 
 def method(kind, mode=FIXED_POINT, n_iter=1, until_converged=True, tol=1e-12, reuse=True,
@@ -443,8 +589,10 @@ def run(path, fun, jac, args, method, controller, output, start, control=None, m
         if matrices is not None:
             method = method._replace(iteration=method.iteration._replace(
                 matrices=matrices_key, sparse=bool(matrices.sparse)))
-        saving = Saving(t_eval, bool(store), key)
-        loop = _compile.compiled_driver(_drive, loop_fun, loop_jac, loop_args, loop_control,
+        saving = Saving(t_eval, bool(store), key, max_knots(start[1].shape[0]) if store else 1)
+        drive = (_sweep_drive if method.kind == SPLINE and method.iteration.mode == FIXED_POINT
+                 and ctrl.kind != REVERSIBLE else _drive)
+        loop = _compile.compiled_driver(drive, loop_fun, loop_jac, loop_args, loop_control,
                                         control_args, method, ctrl, vectors, saving, start)
         out = loop(loop_fun, loop_args, loop_jac, loop_control, control_args, method, ctrl,
                    vectors, saving, start)

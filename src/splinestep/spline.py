@@ -162,7 +162,13 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         (:mod:`splinestep.bvp`), starting from one sweep per step; it gives
         the stepwise solution, without the step-size check (``local_error``
         is NaN, nothing warns), and a run whose starting sweep or Newton
-        iteration fails returns its initial state only.
+        iteration fails returns its initial state only.  It makes the
+        Jacobian dense, m x m blocks at every knot (O(n m^2) memory, a
+        dense LU per block), and tests convergence against ``tol`` alone,
+        not the rounding level: it is for small systems (on the chain of
+        masses, 10 steps at m = 100 take 0.7 s; at m = 200 the update
+        stalls near 6e-11, above the default tol's test); large systems
+        take the stepwise paths.
     iterations : int, optional
         Exactly this many iterations per step, with no convergence test
         (the report's "a few times").  By default iterate until converged.
@@ -242,12 +248,13 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         = 64 components, dense Jacobians at up to three states (2m + 1
         evaluations of F each without ``jac``) and the eigenvalues of 2m x 2m
         matrices, O(m^3) time and O(m^2) memory; above, Arnoldi steps on
-        Jacobian-vector products, about 32 evaluations of F per state (or
+        Jacobian-vector products, about 32 evaluations of F per state when
+        F does not depend on y', up to about 80 when it does (or
         products with ``jac``'s matrices), O(m) memory.  Measured on the
         chain of masses over three periods of its slowest mode at omega_m h
         = 1 (``benchmarks/scaling.py``): about 1 ms at m = 10, 4 ms at
-        m = 100, 7 ms at m = 1,000, 0.04 s at m = 10,000 and 0.4 s at
-        m = 100,000, that is 0.12 % of the run at m = 10,000 and 0.01 % at
+        m = 100, 6 ms at m = 1,000, 0.03 s at m = 10,000 and 0.3 s at
+        m = 100,000, that is 0.11 % of the run at m = 10,000 and 0.01 % at
         m = 100,000, but 3 % at m = 1,000 and most of the runs of a
         millisecond or so at m = 10 and 100.  False skips it: no warning
         and no evaluation (``local_error``, from the run itself, is still
@@ -319,6 +326,11 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         if ctrl[0].first_step > abs(tf - t0):
             raise ValueError(f"first_step = {ctrl[0].first_step:g} exceeds the span "
                              f"{abs(tf - t0):g} of t_span")
+        floor = controllers.rounding_floor(t0, t0, tf)
+        if ctrl[0].max_step < floor:
+            raise ValueError(f"max_step = {ctrl[0].max_step:g} is below the rounding floor "
+                             f"{floor:.3g} of t_span (16 eps max(|t0|, |tf - t0|)): a step "
+                             "that small does not change t reliably")
     else:
         ctrl = controllers.constant(tf, h, n, knots, opts["max_steps"])
     weights, slots, inside, inside_slots = composition(order)

@@ -21,6 +21,7 @@ STEP_TOO_SMALL = 10      # error control: the step fell below the rounding of t
 TOO_MANY_STEPS = 11      # max_steps step attempts made before the end
 TERMINAL_EVENT = 12      # a terminal event stopped the run (not a failure)
 EVENT_FAILED = 13        # an event function raised (re-raised by the front door)
+OUT_OF_MEMORY = 14       # storing every knot would take more memory than is free
 RHO_NOT_POSITIVE = 20    # time-reversible steps: the control variable left (0, inf)
 
 CODES = {name: value for name, value in globals().items()
@@ -117,6 +118,11 @@ def message(run, max_iter, m, max_steps, reason=None, sweep=False):
     if code == TOO_MANY_STEPS:
         return (f"The run stopped at t = {short(run.t_last)} after max_steps = {max_steps} "
                 f"step attempts. {accepted}")
+    if code == OUT_OF_MEMORY:
+        return (f"The run stopped at t = {short(run.t_last)}: storing every knot would take more "
+                f"memory than is free ({run.n_knots} knots of {m} components stored, "
+                f"{run.n_knots * (3 * m + 2) * 8 / 2**30:.3g} GiB). Pass t_eval to keep only the "
+                f"values at the times needed. {accepted}")
     if code == RHO_NOT_POSITIVE:
         return (f"The control variable rho is not positive (or not finite) at "
                 f"t = {short(run.t_last)}: eps is too large for this control, or the control "
