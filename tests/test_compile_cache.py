@@ -48,9 +48,9 @@ def test_a_second_process_and_a_renamed_module_load_the_loops_from_the_cache(tmp
     run_in_new_process(tmp_path, "first_module")  # compiles, if no process has before
     for module in ("first_module", "renamed_module"):
         loops, hits, misses = run_in_new_process(tmp_path, module)
-        # solve and rk4 run the one driver (one loop for both), loaded from
-        # the cache for this signature
-        assert loops == 1 and hits == 1 and misses == 0
+        # solve runs the sweep's loop, rk4 the whole driver: two loops, both
+        # loaded from the cache for this signature
+        assert loops == 2 and hits == 2 and misses == 0
 
 
 def test_loop_signatures_name_no_python_function():

@@ -102,7 +102,8 @@ def test_figures_reproduce(fresh, committed, tmp_path):
     assert reproduction.figures_match(*_compared(fresh, committed, tmp_path))
 
 
-@pytest.mark.parametrize("stem", sorted(REPRODUCED), ids=str)
+@pytest.mark.parametrize("stem", sorted(REPRODUCED) or [pytest.param(None, marks=pytest.mark.skip(
+    reason="every notebook ran under nbval in this session"))], ids=str)
 def test_a_notebook_not_run_again_prints_what_git_head_stores(stem):
     """What nbval checks of a notebook this session does not run: the run
     ``make reproduce`` made of it here prints, cell by cell, what the
