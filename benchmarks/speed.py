@@ -253,8 +253,8 @@ def process_rows():
     rows.append(("numba's first call of any cached function", floor))
     with tempfile.TemporaryDirectory() as cache:
         _, cold_spline, cold_rk4 = new_process(FIRST_SOLVE, env={"NUMBA_CACHE_DIR": cache})
-    rows.append(("first spline solve, cache empty (compiles the one loop)", cold_spline))
-    rows.append(("first rk4 solve after it (the same loop)", cold_rk4))
+    rows.append(("first spline solve, cache empty (compiles the sweep's loop)", cold_spline))
+    rows.append(("first rk4 solve after it (compiles the whole driver)", cold_rk4))
     rows += compile_time.compile_rows()[0]
     return rows
 
