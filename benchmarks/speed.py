@@ -254,7 +254,7 @@ def process_rows():
     with tempfile.TemporaryDirectory() as cache:
         _, cold_spline, cold_rk4 = new_process(FIRST_SOLVE, env={"NUMBA_CACHE_DIR": cache})
     rows.append(("first spline solve, cache empty (compiles the sweep's loop)", cold_spline))
-    rows.append(("first rk4 solve after it (compiles the whole driver)", cold_rk4))
+    rows.append(("first rk4 solve after it (compiles the explicit loop)", cold_rk4))
     rows += compile_time.compile_rows()[0]
     return rows
 

@@ -48,7 +48,7 @@ def test_a_second_process_and_a_renamed_module_load_the_loops_from_the_cache(tmp
     run_in_new_process(tmp_path, "first_module")  # compiles, if no process has before
     for module in ("first_module", "renamed_module"):
         loops, hits, misses = run_in_new_process(tmp_path, module)
-        # solve runs the sweep's loop, rk4 the whole driver: two loops, both
+        # solve runs the sweep's loop, rk4 the explicit one: two loops, both
         # loaded from the cache for this signature
         assert loops == 2 and hits == 2 and misses == 0
 

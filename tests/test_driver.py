@@ -322,3 +322,28 @@ def test_the_sweep_loop_is_the_driver_to_the_last_bit(monkeypatch, case):
         assert own.t_events[0].size > 0
         assert np.array_equal(own.t_events[0], whole.t_events[0])
         assert np.array_equal(own.y_events[0], whole.y_events[0])
+
+
+@pytest.mark.parametrize("solver", ["rk4", "verlet"])
+@pytest.mark.parametrize("case", ["uniform", "t_eval", "events"])
+def test_the_explicit_loop_is_the_driver_to_the_last_bit(monkeypatch, solver, case):
+    """RK4 and Verlet take their own compiled loop (driver._explicit_drive,
+    the driver without the spline steps' branches): every number of the
+    result equals the whole driver's bit for bit."""
+    p = problems.cannonball(0.5)
+    options = {"uniform": {}, "t_eval": dict(t_eval=np.linspace(0.0, 3.0, 7)),
+               "events": dict(events=_events_of(p))}[case]
+
+    def run():
+        return getattr(splinestep, solver)(p.fun, (0.0, 3.0), p.y0, p.yp0, 0.01, args=p.args,
+                                           **options)
+
+    own = run()
+    monkeypatch.setattr(driver, "_explicit_drive", driver._drive)
+    whole = run()
+    assert own.success and whole.success
+    for key in ("t", "y", "yp", "ypp", "nfev", "nstep"):
+        assert np.array_equal(np.asarray(own[key]), np.asarray(whole[key])), key
+    if case == "events":
+        assert own.t_events[0].size > 0
+        assert np.array_equal(own.y_events[0], whole.y_events[0])

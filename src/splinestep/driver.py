@@ -32,7 +32,8 @@ same loop without the other branches and with its vectors apart: it
 compiles in less than half the time (``benchmarks/compile_time.py``) and
 runs as fast as the separate loops of before the one driver (``make
 bench``); its results equal :func:`_drive`'s to the last bit
-(``tests/test_driver.py``).
+(``tests/test_driver.py``).  RK4 and Verlet on a grid likewise take
+:func:`_explicit_drive`, without the spline steps' branches.
 
 Settings travel as named tuples (``step.Method`` with its ``Iteration``,
 ``controllers.Control`` with its ``Vectors``, :class:`Saving`), and the loop
@@ -40,9 +41,9 @@ returns one (:class:`Run`), so the compiled code has ten named arguments
 instead of twenty positional ones.  The method, its iteration and the
 controller are chosen at run time, so numba compiles (and caches) one loop
 per type of ``fun``, ``args``, ``jac`` and ``control``
-(:mod:`splinestep._compile`), whatever the path (two with the sweep's own
-loop): a new type of ``fun`` costs one or two compilations, not one per
-method and controller, and no two compiled
+(:mod:`splinestep._compile`) and per family of paths (the sweep's, the
+explicit baselines', every other): a new type of ``fun`` costs at most three
+compilations, not one per method and controller, and no two compiled
 loops share a name (loops specialised by closure constants share their
 symbol names, which a process loading two of them from the disk cache, each
 compiled by another process, may link to the wrong one).  The run-time
@@ -443,6 +444,90 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
                yp.copy())
 
 
+def _explicit_drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
+                    start):
+    """:func:`_drive` for the explicit baselines (RK4, Verlet) on a given
+    grid: the same helpers in the same order (the same numbers to the last
+    bit, ``tests/test_driver.py``) without the spline steps' branches, so
+    that a run of RK4 or Verlet compiles only its own step."""
+    # The step and the controller are chosen here, at run time: one compiled
+    # loop serves every method and controller for a given type of fun.
+    step_kind, control_kind = method.kind, ctrl.kind
+    t0, y0, yp0, ypp0 = start
+    knots, atol, rtol = vectors.knots, vectors.atol, vectors.rtol
+    m, it, kind, t_eval = y0.shape[0], method.iteration, dense_kind(method.kind), saving.t_eval
+    vec, T, K, RHO, E, acc = _start(ctrl, saving, t0, y0, yp0, ypp0)
+    y, yp, ypp, y_new, yp_new, z = vec[_Y], vec[_YP], vec[_YPP], vec[_Y1], vec[_YP1], vec[_Z]
+    stage, ev_out = np.empty((4, m)), np.empty((3, m))
+    velocity = stage[0]
+    # The records' numbers as plain locals: a field read from a record that
+    # holds arrays is not free inside the loop.
+    store, events = saving.store, saving.events
+    nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
+    direction = 1.0 if ctrl.tf > t0 else -1.0
+    status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
+    last_rate = np.nan
+    n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
+    dt_prev, after_reject = 0.0, False
+    if status == OK:
+        status, nfev, n_eval, rho = _begin(fun, args, control, control_args, ctrl, t0, kind,
+                                           vec, E, t_eval)
+    # The knot arrays grow outside the stepping loop: arrays rebound
+    # inside it would cost reference counting at every step.
+    done = False
+    while status == OK and not done:
+        if store and n_knots == T.shape[0]:
+            if n_knots >= saving.max_knots:
+                status, fail_step = OUT_OF_MEMORY, attempts + 1
+                break
+            T, K, RHO = _grow(T, K, RHO, saving.max_knots)
+        while status == OK and not (store and n_knots == T.shape[0]):
+            status, t_new, done = propose(ctrl, knots, t0, t, attempts, accepted, size, rho)
+            if done or status != OK:
+                fail_step = attempts + 1
+                break
+            dt = t_new - t
+            if step_kind == RK4:
+                status, fe, je, ni, rate = rk4_step(fun, args, t, t_new, dt, y, yp, ypp, y_new,
+                                                    yp_new, z, stage)
+            else:
+                status, fe, je, ni, rate = verlet_step(fun, args, t_new, dt, y, yp, ypp, y_new,
+                                                       yp_new, z, velocity)
+            nfev, njev, niter, attempts, last_status, last_rate = (
+                nfev + fe, njev + je, niter + ni, attempts + 1, status, rate)
+            if status != OK:
+                fail_step = attempts
+                break
+            stop, t_end = 0, t_new
+            if events >= 0.0:
+                stop, t_ev = _compile.python_events(events, t, t_new, kind, vec[:6], ev_out)
+                t_end = t_ev if stop == 1 else t_new
+            if n_eval < t_eval.shape[0] and direction * (t_eval[n_eval] - t_end) <= 0.0:
+                n_eval = _fill_eval(t_eval, n_eval, t, t_end, dt, kind, vec, E, direction)
+            if stop == 2:
+                status, fail_step = EVENT_FAILED, attempts
+                break
+            if stop == 1 and t_end == t:
+                # A terminal zero at the step's start (where the last
+                # step ended on it to rounding): the run ends at its
+                # last knot, not at a second knot of the same time.
+                status = TERMINAL_EVENT
+                break
+            _advance(vec, ev_out, stop == 1)
+            t, dt_prev, accepted = t_end, dt, accepted + 1
+            if store:
+                _put(T, K, RHO, n_knots, t, vec, rho)
+                n_knots += 1
+            if stop == 1:
+                status = TERMINAL_EVENT
+    return Run(status, last_status, last_rate, -1 if status == OK else fail_step, t, t_new,
+               nfev, njev, niter, attempts, accepted, n_rejected, n_failed, n_knots, n_eval, T,
+               K, RHO, E, np.array(acc), vec[_Y_ERR].copy(), vec[_YP_ERR].copy(), y.copy(),
+               yp.copy())
+
+
+
+
 @njit(cache=True, inline="always")
 def _to_rows(vec, y, yp, ypp, y_new, yp_new, z):
     """The sweep loop's own vectors into the rows of ``vec`` that the
@@ -591,7 +676,8 @@ def run(path, fun, jac, args, method, controller, output, start, control=None, m
                 matrices=matrices_key, sparse=bool(matrices.sparse)))
         saving = Saving(t_eval, bool(store), key, max_knots(start[1].shape[0]) if store else 1)
         drive = (_sweep_drive if method.kind == SPLINE and method.iteration.mode == FIXED_POINT
-                 and ctrl.kind != REVERSIBLE else _drive)
+                 and ctrl.kind != REVERSIBLE else
+                 _explicit_drive if method.kind >= RK4 and ctrl.kind == CONSTANT else _drive)
         loop = _compile.compiled_driver(drive, loop_fun, loop_jac, loop_args, loop_control,
                                         control_args, method, ctrl, vectors, saving, start)
         out = loop(loop_fun, loop_args, loop_jac, loop_control, control_args, method, ctrl,
