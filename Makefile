@@ -12,8 +12,9 @@
 #   make browser     install Debian's chromium (root), which tests/test_site.py drives
 #   make test        build .venv, run pytest: the package's tests, and nbval on every
 #                    notebook but those make reproduce ran here with the inputs they have
-#                    now (their printed lines, data and figures are compared with git
-#                    HEAD's instead); RERUN=1 runs every notebook; JUNIT=1 writes each
+#                    now and whose outputs are unchanged since (their printed lines, data
+#                    and figures are compared with git HEAD's instead: after a commit of
+#                    them, a file with itself); RERUN=1 runs every notebook; JUNIT=1 writes each
 #                    test's seconds to build/junit.xml
 #   make bench       speed benchmark (compiled, plain Python, scipy, C) and cost against
 #                    the number of equations (benchmarks/scaling.py)

@@ -31,12 +31,39 @@ from notebook_runs import (done_marker, notebook_of, notebooks_in, reproduced,  
 def pytest_configure(config):
     if "SPLINESTEP_OUTPUT" not in os.environ:  # set once, inherited by the workers
         os.environ["SPLINESTEP_OUTPUT"] = tempfile.mkdtemp(prefix="splinestep-outputs-")
-    if "SPLINESTEP_REPRODUCED" not in os.environ:  # likewise
-        os.environ["SPLINESTEP_REPRODUCED"] = json.dumps(
-            {} if os.environ.get("SPLINESTEP_RERUN") else freshness.reproduced(reproduce.NOTEBOOKS))
     if not hasattr(config, "workerinput"):  # the controller: no markers of an earlier session
         shutil.rmtree(done_marker("any").parent, ignore_errors=True)
     os.environ.setdefault("MPLBACKEND", "Agg")
+    if not hasattr(config, "workerinput"):  # the controller decides, the workers inherit
+        skipped = _not_run_again()
+        os.environ["SPLINESTEP_REPRODUCED"] = json.dumps(skipped)
+        _outputs_of(skipped, Path(os.environ["SPLINESTEP_OUTPUT"]))
+
+
+def _not_run_again():
+    """{stem: outputs} of the notebooks this session does not run under
+    nbval: those ``make reproduce`` ran here with the inputs they have now
+    and whose outputs are unchanged since (``freshness.reproduced``), and
+    whose notebook git HEAD holds (a new one runs); none with RERUN=1."""
+    if os.environ.get("SPLINESTEP_RERUN", "") not in ("", "0"):
+        return {}
+    import subprocess
+    listed = subprocess.run(["git", "-C", str(ROOT), "ls-tree", "--name-only", "HEAD",
+                             "notebooks/"], capture_output=True, text=True)
+    committed = set(listed.stdout.split()) if listed.returncode == 0 else set()
+    return {stem: outputs for stem, outputs in freshness.reproduced(reproduce.NOTEBOOKS).items()
+            if f"notebooks/{stem}.ipynb" in committed}
+
+
+def _outputs_of(skipped, folder):
+    """The data and figures of the notebooks not run again, copied where
+    the session's notebooks write theirs: a notebook that runs and reads
+    them (the claims notebook) finds them there."""
+    for outputs in skipped.values():
+        for name in outputs:
+            if name.startswith(("data/", "figures/")) and (ROOT / name).is_file():
+                (folder / name).parent.mkdir(parents=True, exist_ok=True)
+                shutil.copy2(ROOT / name, folder / name)
 
 
 _STARTED = set()

@@ -5,15 +5,18 @@ nothing).
 A notebook is up to date when its inputs and its outputs hash as they did
 when ``make reproduce`` last ran it here.  Its inputs are its own source,
 the scripts it runs with (:data:`COMMON`), the environment
-(``environment.txt`` and the Python version), every data file it read and
-every module of the repository it imported (the package's modules it used,
-an analysis module only if it imported it); its outputs are its ``.ipynb`` and
+(``environment.txt``, the Python version, the CPU, the installed packages
+and the variables that choose CPU kernels, :func:`environment`), every data file it read and
+every module of the repository's ``src/`` and ``scripts/`` it imported (the
+package's modules it used, an analysis module only if it imported it; a
+module edited while it ran leaves it stale); its outputs are its ``.ipynb`` and
 every data file and figure it wrote.  What a notebook read and wrote is
 recorded as it runs (``scripts/outputs.py`` appends to the file named by
 ``SPLINESTEP_MANIFEST``).  The record lives in ``build/reproduce-state.json``,
 which is not committed: a fresh clone runs everything.
 """
 
+import functools
 import hashlib
 import json
 import os
@@ -58,16 +61,44 @@ def output_hash(path):
     return file_hash(path)
 
 
-# Variables that change what a run computes on this machine: numpy's and
-# numba's choice of CPU kernels (make test-emulated sets them).
-ENVIRONMENT_VARIABLES = ("NPY_DISABLE_CPU_FEATURES", "NUMBA_CPU_NAME", "NUMBA_CPU_FEATURES")
+# Variables that change what a run computes on this machine: numpy's,
+# numba's and the BLAS libraries' choices of CPU kernels and threads
+# (make test-emulated sets some of them), by their prefixes.
+ENVIRONMENT_PREFIXES = ("NPY_", "NUMBA_", "OPENBLAS_", "MKL_", "OMP_")
+
+
+def _cpu():
+    """The CPU's model name (Linux), or the platform's processor string."""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.partition(":")[2].strip()
+    except OSError:
+        pass
+    import platform
+    return platform.processor() or platform.machine()
 
 
 def environment():
-    """The Python version and the variables of :data:`ENVIRONMENT_VARIABLES`
-    that are set: a run under other ones is another run."""
-    return f"Python {sys.version}" + "".join(
-        f"\n{name}={os.environ[name]}" for name in ENVIRONMENT_VARIABLES if name in os.environ)
+    """What a run computes with besides the files it reads: the Python
+    version, the CPU, the installed distributions and their versions, and
+    the variables of :data:`ENVIRONMENT_PREFIXES` that are set; a run under
+    other ones is another run."""
+    variables = sorted(f"{k}={v}" for k, v in os.environ.items()
+                       if k.startswith(ENVIRONMENT_PREFIXES))
+    return "\n".join([f"Python {sys.version}", f"CPU {_cpu()}", *_packages(), *variables])
+
+
+@functools.cache
+def _packages():
+    """The installed distributions, name==version, sorted (once per process)."""
+    from importlib import metadata
+    return tuple(sorted(f"{d.metadata['Name']}=={d.version}" for d in metadata.distributions()))
+
+
+# The modules a run may import, hashed before it starts (State.snapshot):
+# one edited while the run goes on leaves it stale.
+MODULES = ("src/**/*.py", "scripts/*.py")
 
 
 def reproduced(notebooks, state=None):
@@ -93,8 +124,10 @@ class State:
     def before(self, sources, common=True):
         """The hash of what a run takes besides the files it reads: its
         ``sources``, with ``common`` the files of :data:`COMMON` and the
-        environment.  Taken before the run, so that a file edited while
-        it runs leaves it stale."""
+        environment.  Taken before the run, so that one of these files
+        edited while it runs leaves it stale (the modules it imports are
+        guarded by :meth:`snapshot`; a data file it reads is hashed when the
+        run is recorded)."""
         paths = (files(COMMON, self.root) if common else []) + [Path(s) for s in sources]
         return digest(paths, self.root, environment())
 
@@ -119,14 +152,26 @@ class State:
                 return f"{path} changed"
         return None
 
-    def record(self, name, sources, reads=(), outputs=(), common=True, before=None):
+    def snapshot(self):
+        """{path: hash} of the modules a run may import (:data:`MODULES`),
+        taken before it starts, for :meth:`record`."""
+        return {str(p.relative_to(self.root)): file_hash(p) for p in files(MODULES, self.root)}
+
+    def record(self, name, sources, reads=(), outputs=(), common=True, before=None,
+               snapshot=None):
         """Note that ``name`` ran, with these inputs and outputs (files or
         folders; paths relative to the root or absolute below it), and save
         the record.  ``before`` is :meth:`before` as taken when the run
-        started (taken now if None)."""
+        started (taken now if None), ``snapshot`` :meth:`snapshot`: a module
+        it read that changed since then (edited while it ran) leaves it
+        stale, unrecorded.  Returns whether it was recorded."""
         relative = [str(Path(p).resolve().relative_to(self.root)) if Path(p).is_absolute()
                     else str(p) for p in reads]
         relative = sorted(set(relative))
+        if snapshot is not None and any(
+                r in snapshot and file_hash(self.root / r) != snapshot[r] for r in relative):
+            self.forget(name)
+            return False
         written = {}
         for path in outputs:
             path = Path(path) if Path(path).is_absolute() else self.root / path
@@ -135,6 +180,7 @@ class State:
                               "reads": relative,
                               "outputs": written}
         self.save()
+        return True
 
     def forget(self, name):
         self.records.pop(name, None)

@@ -325,6 +325,7 @@ def main(names=()):
     for script, why in chosen:
         print(f"{script.relative_to(ROOT)}: runs ({why})", flush=True)
         before[script] = state.before([script])
+    snapshot = state.snapshot()
     for script, notebook, error, seconds in execute_all([s for s, _ in chosen]):
         if error is not None:
             state.forget(script.stem)
@@ -333,8 +334,10 @@ def main(names=()):
         target = script.with_suffix(".ipynb")
         jupytext.write(notebook, target)
         reads, writes = freshness.read_manifest(manifest_path(script))
-        state.record(script.stem, [script], reads, [*writes, target, paper.MACHINE],
-                     before=before[script])
+        if not state.record(script.stem, [script], reads, [*writes, target, paper.MACHINE],
+                            before=before[script], snapshot=snapshot):
+            print(f"{script.relative_to(ROOT)}: a module it imported changed while it ran: "
+                  "left stale, to run again", flush=True)
         written += [*writes, target, paper.MACHINE]
         costs = freshness.run_costs(manifest_path(script))
         spent = (f" (CPU {costs['cpu']:.1f} s, of which compiling {costs['compile']:.1f} s)"

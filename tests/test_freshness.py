@@ -162,6 +162,13 @@ def test_a_run_under_other_cpu_kernels_is_another_run(monkeypatch, tmp_path):
     monkeypatch.setenv("NPY_DISABLE_CPU_FEATURES", "AVX512_ICL X86_V4 X86_V3")
     assert state.why_stale("nb", sources) == "its inputs changed"
     assert freshness.reproduced([tmp_path / "nb.py"], state) == {}
+    monkeypatch.delenv("NPY_DISABLE_CPU_FEATURES")
+    assert state.why_stale("nb", sources) is None
+    for name, value in [("NPY_ENABLE_CPU_FEATURES", "SSE,SSE2"), ("OPENBLAS_CORETYPE", "Haswell"),
+                        ("NUMBA_DISABLE_JIT", "1")]:
+        monkeypatch.setenv(name, value)
+        assert state.why_stale("nb", sources) == "its inputs changed", name
+        monkeypatch.delenv(name)
 
 
 def test_a_run_notes_the_modules_it_imported_and_its_costs(tmp_path):
@@ -181,3 +188,18 @@ def test_a_run_notes_the_modules_it_imported_and_its_costs(tmp_path):
     assert "src/splinestep/analysis/theory.py" not in names and writes == []
     costs = freshness.run_costs(manifest)
     assert 0 <= costs["compile"] <= costs["cpu"]
+
+
+def test_a_module_edited_while_a_notebook_runs_leaves_it_stale(tmp_path):
+    """The modules are hashed before the run (State.snapshot): one edited
+    while the notebook runs is not recorded as what the run used."""
+    state = _repository(tmp_path)
+    snapshot = state.snapshot()
+    assert "src/pkg/a.py" in snapshot
+    (tmp_path / "src" / "pkg" / "a.py").write_text("x = 3\n")   # edited during the run
+    assert not state.record("nb", [tmp_path / "nb.py"], reads=[tmp_path / "src" / "pkg" / "a.py"],
+                            outputs=["data/out.csv"], snapshot=snapshot)
+    assert state.why_stale("nb", [tmp_path / "nb.py"]) == "never run here"
+    assert state.record("nb", [tmp_path / "nb.py"], reads=[tmp_path / "src" / "pkg" / "a.py"],
+                        outputs=["data/out.csv"], snapshot=state.snapshot())
+    assert state.why_stale("nb", [tmp_path / "nb.py"]) is None
