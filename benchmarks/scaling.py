@@ -1,7 +1,7 @@
 """Cost against the number of equations: the chain of m masses on every path.
 
 The problem is :func:`splinestep.problems.chain`: y'' = K y with K = (m +
-1)^2 tridiag(1, -2, 1), both ends fixed, over 3.25 periods of the slowest
+1)^2 tridiag(1, -2, 1), both ends fixed, over 3.125 periods of the slowest
 mode, at the step omega_m h = 1 (omega_m the fastest frequency; order 4
 takes the same h), with the exact modal solution as reference.  For m = 10,
 100, 1,000, 10,000 and 100,000 it measures each path of splinestep
@@ -23,10 +23,11 @@ adaptive runs: the whole run over its steps), the peak memory of a run
 (``tracemalloc``, which sees numpy's and numba's allocations, over
 :data:`MEMORY_STEPS` steps: with only the end reported no buffer grows
 with the steps) and the largest error at the end against the exact
-solution.  The end is at 3.25 periods of the slowest mode (:data:`PERIODS`),
-where that mode's phase error shows in full: at a whole number of periods
-from rest it cancels (the error there is 10^2 to 10^6 times below the
-largest over the span).  A run whose whole span would take longer than :data:`BUDGET`
+solution.  The end is at 3.125 periods of the slowest mode (:data:`PERIODS`),
+6.25 of the second, whose phase error (eight times the first's for a
+second-order method, relative to its amplitude) then shows in full: at a
+whole number of periods from rest the phase errors cancel at the end (the
+error there is 30 to 2e4 times below the largest over the span).  A run whose whole span would take longer than :data:`BUDGET`
 seconds is left at the timed steps, its error left out with the reason; a
 path that cannot run at that m is skipped with the reason.  splinestep's
 runs here skip the step-too-large check (``check=False``), whose cost the
@@ -64,7 +65,7 @@ ROOT = Path(__file__).resolve().parent.parent
 SIZES = (10, 100, 1_000, 10_000, 100_000)
 BUDGET = 60.0
 # The span, in periods of the slowest mode (see the module's docstring).
-PERIODS = 3.25
+PERIODS = 3.125
 PROBE_STEPS = 4
 MEMORY_STEPS = 5
 REPEATS = 3
@@ -173,9 +174,9 @@ def paths(problem):
             lambda steps: spline_run(steps, iteration="newton", jac=p.jac), None, True),
         "adaptive (rtol 1e-3, atol 1e-8)": (
             lambda steps: spline_run(None, h=None, **ADAPTIVE_TOL),
-            None if m <= 1_000 else "the whole span, not truncatable, would take minutes: "
-            "its steps grow about as m (the sweep converges only while omega_m h < 6^(1/2)), "
-            "at about 10 times m = 1,000's cost per step", False),
+            None if m <= 1_000 else "the whole span, not truncatable, takes minutes: at "
+            "m = 10,000 (over 3.25 periods) 1.85 million steps, 140 times m = 1,000's, "
+            "and 7 minutes", False),
         "numpy Newmark + splu (floor)": (
             lambda steps: newmark(p.jac[0], p.t_span, p.y0, p.yp0, p.h, steps), None, True),
         "scipy DOP853": (lambda steps: scipy_run(DOP853, p, steps), None, True),
@@ -271,7 +272,7 @@ def crossover_rows(sizes=CROSSOVER_SIZES):
     saved = _linalg.SPARSE_FROM
     try:
         for m in sizes:
-            p = problems.chain(m)
+            p = problems.chain(m, periods=PERIODS)
             times = []
             for threshold in (m + 1, m):   # densified, then SuperLU
 
@@ -307,7 +308,7 @@ def check_rows(sizes):
     spline._check.report = timed
     try:
         for m in sizes:
-            p = problems.chain(m)
+            p = problems.chain(m, periods=PERIODS)
             run = paths(p)["fixed-point sweep"][0]
             seconds, _, _ = per_step(run)
             steps = np.ceil(p.t_span[1] / p.h)
@@ -367,8 +368,9 @@ def render(rows, crossover, checks, sizes, machine):
                    [[f"{m:,}", _time(d), _time(s), f"{s / d:.2f}" if d > 0 else "-"]
                     for m, d, s in crossover])
     lines += ["", "**The step-too-large check's share** of the fixed-point sweep's run over "
-              "the chain's whole span (runs over the budget: the run's time from its first "
-              "steps)", ""]
+              "the chain's whole span, the run's time its time per step times its steps (its "
+              "fixed costs left out, which at m = 10 and 100 are about as large as the steps': "
+              "there the share of a whole solve is nearer 60 %)", ""]
     lines += table(["m", "check", "whole run", "share"],
                    [[f"{m:,}", f"{c:.3g} s", f"{w:.3g} s", f"{c / w:.2%}"]
                     for m, c, w in checks])

@@ -9,6 +9,7 @@ the step-too-large check stays cheap at large m and still sees an unstable
 step; the first adaptive step is never below the rounding floor."""
 
 import tracemalloc
+from pathlib import Path
 import warnings
 
 import numpy as np
@@ -342,3 +343,26 @@ def test_knots_beyond_the_free_memory_end_the_run_with_status_minus_1(monkeypatc
     assert cut.status == -1 and "t_eval" in cut.message and "memory" in cut.message
     assert cut.t.size == 50 and np.array_equal(cut.t, whole.t[:50])
     assert np.array_equal(cut.y, whole.y[:, :50])
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="needs Linux's /proc")
+def test_the_knot_cap_sees_an_address_space_limit():
+    """Under ``ulimit -v`` (here 1 GiB above the process's size) the memory
+    the machine has free is not what the process may allocate: driver.max_knots takes the smaller, so a run
+    storing every knot stops with status -1 before the limit, not with a
+    MemoryError from inside the loop."""
+    import subprocess
+    import sys
+    code = ("import resource, numpy as np, splinestep\n"
+            "from splinestep import driver, problems\n"
+            "size = next(int(l.split()[1]) * 1024 for l in open('/proc/self/status')\n"
+            "            if l.startswith('VmSize:'))\n"
+            "resource.setrlimit(resource.RLIMIT_AS, (size + 2**30, resource.RLIM_INFINITY))\n"
+            "p = problems.chain(2000)\n"
+            "res = splinestep.solve(p.fun, p.t_span, p.y0, p.yp0, p.h, args=p.args, check=False)\n"
+            "print(res.status, res.t.size, 'dense_output' in res.message)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr[-2000:]
+    status, knots, named = out.stdout.split()
+    whole = int(np.ceil(problems.chain(2000).t_span[1] / problems.chain(2000).h)) + 1
+    assert status == "-1" and named == "True" and 1000 < int(knots) < whole

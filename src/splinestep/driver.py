@@ -30,10 +30,12 @@ A new method is a new kind here and one branch of the step dispatch in
 or the error controller (the commonest runs) take :func:`_sweep_drive`, the
 same loop without the other branches and with its vectors apart: it
 compiles in less than half the time (``benchmarks/compile_time.py``) and
-runs as fast as the separate loops of before the one driver (``make
-bench``); its results equal :func:`_drive`'s to the last bit
+runs within a few per cent of the separate loops of before the one driver
+(``make bench``; the one driver took 15 to 30 % more); its results equal :func:`_drive`'s to the last bit
 (``tests/test_driver.py``).  RK4 and Verlet on a grid likewise take
-:func:`_explicit_drive`, without the spline steps' branches.
+:func:`_explicit_drive`, without the spline steps' branches.  The price:
+a type that runs on every path compiles three loops, about a third more
+CPU time in all than the one driver took.
 
 Settings travel as named tuples (``step.Method`` with its ``Iteration``,
 ``controllers.Control`` with its ``Vectors``, :class:`Saving`), and the loop
@@ -96,16 +98,53 @@ would lose it), and the key of the events' tracker
 (:mod:`splinestep.events`), negative for none."""
 
 
+def _free_memory():
+    """Bytes this process may still allocate, as far as the system tells:
+    the smallest of the memory available (Linux's MemAvailable, else the
+    free pages), what the address-space limit (``ulimit -v``) leaves above
+    the process's size, and what its cgroup's limit leaves (cgroup v2);
+    None if none is known."""
+    limits = []
+    try:
+        for line in open("/proc/meminfo"):
+            if line.startswith("MemAvailable:"):
+                limits.append(int(line.split()[1]) * 1024)
+    except (OSError, ValueError, IndexError):
+        pass
+    if not limits:
+        try:
+            limits.append(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+        except (AttributeError, ValueError, OSError):
+            pass
+    try:
+        import resource
+        soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+        if soft != resource.RLIM_INFINITY:
+            size = 0
+            for line in open("/proc/self/status"):
+                if line.startswith("VmSize:"):
+                    size = int(line.split()[1]) * 1024
+            limits.append(soft - size)
+    except (ImportError, OSError, ValueError, IndexError):
+        pass
+    try:
+        maximum = open("/sys/fs/cgroup/memory.max").read().strip()
+        if maximum != "max":
+            limits.append(int(maximum) - int(open("/sys/fs/cgroup/memory.current").read()))
+    except (OSError, ValueError):
+        pass
+    return min(limits) if limits else None
+
+
 def max_knots(m):
     """How many knots of ``m`` components (t, y, y', y'', rho) a third of
-    the memory that is free now holds: the result copies them once more,
-    and the rest is the caller's.  From ``os.sysconf`` where it tells
-    (Linux, macOS), else unbounded."""
-    try:
-        free = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (AttributeError, ValueError, OSError):
+    the memory this process may still allocate holds (:func:`_free_memory`):
+    the result copies them once more, and the rest is the caller's;
+    unbounded where the system does not tell."""
+    free = _free_memory()
+    if free is None:
         return 2**62
-    return max(2, (free // 3) // ((3 * m + 2) * 8))
+    return max(2, (max(free, 0) // 3) // ((3 * m + 2) * 8))
 
 Run = namedtuple("Run", "status last_status rate fail_step t_last t_fail nfev njev niter attempts "
                         "nstep n_rejected n_failed n_knots n_eval T K RHO E estimate "
@@ -545,8 +584,8 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
     reversible controller's branches.  A run of this kind (the commonest)
     compiles this loop alone, and its state lives in vectors of its own,
     not in rows of one buffer: the compiler then knows that y and y_new do
-    not overlap and keeps the sweep as fast as the separate loops were
-    (``make bench``); they are copied into the buffer's rows only where a
+    not overlap and keeps the sweep within a few per cent of the separate
+    loops (``make bench``); they are copied into the buffer's rows only where a
     shared helper reads them (an event's search, a requested time)."""
     control_kind = ctrl.kind
     t0, y0, yp0, ypp0 = start

@@ -120,9 +120,10 @@ def message(run, max_iter, m, max_steps, reason=None, sweep=False):
                 f"step attempts. {accepted}")
     if code == OUT_OF_MEMORY:
         return (f"The run stopped at t = {short(run.t_last)}: storing every knot would take more "
-                f"memory than is free ({run.n_knots} knots of {m} components stored, "
-                f"{run.n_knots * (3 * m + 2) * 8 / 2**30:.3g} GiB). Pass t_eval to keep only the "
-                f"values at the times needed. {accepted}")
+                f"than a third of the memory free at its start ({run.n_knots} knots of {m} "
+                f"components stored, {run.n_knots * (3 * m + 2) * 8 / 2**30:.3g} GiB). Pass "
+                f"t_eval, without dense_output, to keep only the values at the times needed. "
+                f"{accepted}")
     if code == RHO_NOT_POSITIVE:
         return (f"The control variable rho is not positive (or not finite) at "
                 f"t = {short(run.t_last)}: eps is too large for this control, or the control "
