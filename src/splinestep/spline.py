@@ -254,7 +254,7 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         chain of masses over three periods of its slowest mode at omega_m h
         = 1 (``benchmarks/scaling.py``): about 1 ms at m = 10, 4 ms at
         m = 100, 6 ms at m = 1,000, 0.03 s at m = 10,000 and 0.3 s at
-        m = 100,000, that is 0.12 % of the run at m = 10,000 and 0.01 % at
+        m = 100,000, that is about 0.1 % of the run at m = 10,000 and 0.01 % at
         m = 100,000, but 3 % at m = 1,000 and most of the runs of a
         millisecond or so at m = 10 and 100.  False skips it: no warning
         and no evaluation (``local_error``, from the run itself, is still
