@@ -366,3 +366,17 @@ def test_the_knot_cap_sees_an_address_space_limit():
     status, knots, named = out.stdout.split()
     whole = int(np.ceil(problems.chain(2000).t_span[1] / problems.chain(2000).h)) + 1
     assert status == "-1" and named == "True" and 1000 < int(knots) < whole
+
+
+def test_a_run_storing_its_knots_warns_nothing():
+    """Reading what memory is free (driver.max_knots) leaves no file open:
+    a run that warns nothing else emits no warning at all (a ResourceWarning
+    would be taken for the step-size check's by a caller that records
+    every warning, as notebook 01 does)."""
+    problem = problems.chain(3)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = splinestep.solve(problem.fun, (0, 1), problem.y0, problem.yp0, 0.01,
+                               args=problem.args)
+    assert res.success and res.t.size == 101
+    assert [str(w.message) for w in caught] == []

@@ -98,6 +98,23 @@ would lose it), and the key of the events' tracker
 (:mod:`splinestep.events`), negative for none."""
 
 
+def _read(path):
+    """The text of ``path``, or '' where it cannot be read."""
+    try:
+        with open(path) as handle:
+            return handle.read()
+    except OSError:
+        return ""
+
+
+def _field_bytes(text, name):
+    """The value in kB of the line ``name: value kB`` of ``text``, in bytes, or None."""
+    for line in text.splitlines():
+        if line.startswith(name + ":"):
+            return int(line.split()[1]) * 1024
+    return None
+
+
 def _free_memory():
     """Bytes this process may still allocate, as far as the system tells:
     the smallest of the memory available (Linux's MemAvailable, else the
@@ -105,13 +122,10 @@ def _free_memory():
     the process's size, and what its cgroup's limit leaves (cgroup v2);
     None if none is known."""
     limits = []
-    try:
-        for line in open("/proc/meminfo"):
-            if line.startswith("MemAvailable:"):
-                limits.append(int(line.split()[1]) * 1024)
-    except (OSError, ValueError, IndexError):
-        pass
-    if not limits:
+    available = _field_bytes(_read("/proc/meminfo"), "MemAvailable")
+    if available is not None:
+        limits.append(available)
+    else:
         try:
             limits.append(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
         except (AttributeError, ValueError, OSError):
@@ -120,19 +134,13 @@ def _free_memory():
         import resource
         soft = resource.getrlimit(resource.RLIMIT_AS)[0]
         if soft != resource.RLIM_INFINITY:
-            size = 0
-            for line in open("/proc/self/status"):
-                if line.startswith("VmSize:"):
-                    size = int(line.split()[1]) * 1024
-            limits.append(soft - size)
-    except (ImportError, OSError, ValueError, IndexError):
+            limits.append(soft - (_field_bytes(_read("/proc/self/status"), "VmSize") or 0))
+    except (ImportError, ValueError):
         pass
-    try:
-        maximum = open("/sys/fs/cgroup/memory.max").read().strip()
-        if maximum != "max":
-            limits.append(int(maximum) - int(open("/sys/fs/cgroup/memory.current").read()))
-    except (OSError, ValueError):
-        pass
+    maximum, current = _read("/sys/fs/cgroup/memory.max").strip(), \
+        _read("/sys/fs/cgroup/memory.current").strip()
+    if maximum.isdigit() and current.isdigit():
+        limits.append(int(maximum) - int(current))
     return min(limits) if limits else None
 
 
