@@ -343,6 +343,11 @@ def test_knots_beyond_the_free_memory_end_the_run_with_status_minus_1(monkeypatc
     assert cut.status == -1 and "t_eval" in cut.message and "memory" in cut.message
     assert cut.t.size == 50 and np.array_equal(cut.t, whole.t[:50])
     assert np.array_equal(cut.y, whole.y[:, :50])
+    # a cap of exactly the run's knots is room enough
+    monkeypatch.setattr(driver, "max_knots", lambda m: whole.t.size)
+    exact = splinestep.solve(problem.fun, (0, 5), problem.y0, problem.yp0, h,
+                             args=problem.args, check=False)
+    assert exact.status == 0 and np.array_equal(exact.y, whole.y)
 
 
 @pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="needs Linux's /proc")

@@ -34,7 +34,7 @@ runs within a few per cent of the separate loops of before the one driver
 (``make bench``; the one driver took 15 to 30 % more); its results equal :func:`_drive`'s to the last bit
 (``tests/test_driver.py``).  RK4 and Verlet on a grid likewise take
 :func:`_explicit_drive`, without the spline steps' branches.  The price:
-a type that runs on every path compiles three loops, about a third more
+a type that runs on every path compiles three loops, 40 to 45 % more
 CPU time in all than the one driver took.
 
 Settings travel as named tuples (``step.Method`` with its ``Iteration``,
@@ -145,14 +145,15 @@ def _free_memory():
 
 
 def max_knots(m):
-    """How many knots of ``m`` components (t, y, y', y'', rho) a third of
+    """How many knots of ``m`` components (t, y, y', y'', rho) a fifth of
     the memory this process may still allocate holds (:func:`_free_memory`):
-    the result copies them once more, and the rest is the caller's;
-    unbounded where the system does not tell."""
+    the result copies them once more and its dense output
+    (``dense_output=True``) takes about 4/3 of them again, and the rest is
+    the caller's; unbounded where the system does not tell."""
     free = _free_memory()
     if free is None:
         return 2**62
-    return max(2, (max(free, 0) // 3) // ((3 * m + 2) * 8))
+    return max(2, (max(free, 0) // 5) // ((3 * m + 2) * 8))
 
 Run = namedtuple("Run", "status last_status rate fail_step t_last t_fail nfev njev niter attempts "
                         "nstep n_rejected n_failed n_knots n_eval T K RHO E estimate "
@@ -402,17 +403,17 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
     nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
     direction = 1.0 if ctrl.tf > t0 else -1.0
     status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
-    last_rate = np.nan
+    last_rate, dt_prev, after_reject, done = np.nan, 0.0, False, False
     n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
-    dt_prev, after_reject = 0.0, False
     if status == OK:
         status, nfev, n_eval, rho = _begin(fun, args, control, control_args, ctrl, t0, kind,
                                            vec, E, t_eval)
     # The knot arrays grow outside the stepping loop: arrays rebound
     # inside it would cost reference counting at every step.
-    done = False
     while status == OK and not done:
         if store and n_knots == T.shape[0]:
+            if t == ctrl.tf:   # the end reached with every row used: nothing more to store
+                break
             if n_knots >= saving.max_knots:
                 status, fail_step = OUT_OF_MEMORY, attempts + 1
                 break
@@ -513,17 +514,17 @@ def _explicit_drive(fun, args, jac, control, control_args, method, ctrl, vectors
     nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
     direction = 1.0 if ctrl.tf > t0 else -1.0
     status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
-    last_rate = np.nan
+    last_rate, dt_prev, after_reject, done = np.nan, 0.0, False, False
     n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
-    dt_prev, after_reject = 0.0, False
     if status == OK:
         status, nfev, n_eval, rho = _begin(fun, args, control, control_args, ctrl, t0, kind,
                                            vec, E, t_eval)
     # The knot arrays grow outside the stepping loop: arrays rebound
     # inside it would cost reference counting at every step.
-    done = False
     while status == OK and not done:
         if store and n_knots == T.shape[0]:
+            if t == ctrl.tf:   # the end reached with every row used: nothing more to store
+                break
             if n_knots >= saving.max_knots:
                 status, fail_step = OUT_OF_MEMORY, attempts + 1
                 break
@@ -607,9 +608,8 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
     nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
     direction = 1.0 if ctrl.tf > t0 else -1.0
     status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
-    last_rate = np.nan
+    last_rate, dt_prev, after_reject, done = np.nan, 0.0, False, False
     n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
-    dt_prev, after_reject = 0.0, False
     if status == OK:
         status, nfev, n_eval, rho = _begin(fun, args, control, control_args, ctrl, t0, kind,
                                            vec, E, t_eval)
@@ -617,9 +617,10 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
     y_new, yp_new, z, jerk1 = np.empty(m), np.empty(m), np.empty(m), np.empty(m)
     # The knot arrays grow outside the stepping loop: arrays rebound
     # inside it would cost reference counting at every step.
-    done = False
     while status == OK and not done:
         if store and n_knots == T.shape[0]:
+            if t == ctrl.tf:   # the end reached with every row used: nothing more to store
+                break
             if n_knots >= saving.max_knots:
                 status, fail_step = OUT_OF_MEMORY, attempts + 1
                 break

@@ -251,7 +251,7 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         Jacobian-vector products, about 32 evaluations of F per state when
         F does not depend on y', up to about 80 when it does (or
         products with ``jac``'s matrices), O(m) memory.  Measured on the
-        chain of masses over three periods of its slowest mode at omega_m h
+        chain of masses over 3.125 periods of its slowest mode at omega_m h
         = 1 (``benchmarks/scaling.py``): about 1 ms at m = 10, 4 ms at
         m = 100, 6 ms at m = 1,000, 0.03 s at m = 10,000 and 0.3 s at
         m = 100,000, that is about 0.1 % of the run at m = 10,000 and 0.01 % at

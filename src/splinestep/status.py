@@ -120,7 +120,7 @@ def message(run, max_iter, m, max_steps, reason=None, sweep=False):
                 f"step attempts. {accepted}")
     if code == OUT_OF_MEMORY:
         return (f"The run stopped at t = {short(run.t_last)}: storing every knot would take more "
-                f"than a third of the memory free at its start ({run.n_knots} knots of {m} "
+                f"than a fifth of the memory free at its start ({run.n_knots} knots of {m} "
                 f"components stored, {run.n_knots * (3 * m + 2) * 8 / 2**30:.3g} GiB). Pass "
                 f"t_eval, without dense_output, to keep only the values at the times needed. "
                 f"{accepted}")
