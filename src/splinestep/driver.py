@@ -503,7 +503,7 @@ def _explicit_drive(fun, args, jac, control, control_args, method, ctrl, vectors
     step_kind, control_kind = method.kind, ctrl.kind
     t0, y0, yp0, ypp0 = start
     knots, atol, rtol = vectors.knots, vectors.atol, vectors.rtol
-    m, it, kind, t_eval = y0.shape[0], method.iteration, dense_kind(method.kind), saving.t_eval
+    m, kind, t_eval = y0.shape[0], dense_kind(method.kind), saving.t_eval
     vec, T, K, RHO, E, acc = _start(ctrl, saving, t0, y0, yp0, ypp0)
     y, yp, ypp, y_new, yp_new, z = vec[_Y], vec[_YP], vec[_YPP], vec[_Y1], vec[_YP1], vec[_Z]
     stage, ev_out = np.empty((4, m)), np.empty((3, m))
