@@ -39,12 +39,16 @@ EMULATED_CPU := NPY_DISABLE_CPU_FEATURES="AVX512_ICL AVX512_SPR X86_V4 X86_V3" N
 
 env: $(STAMP) $(FAST_IMPORT)
 
-# Rebuilt when missing or older than environment.txt or pyproject.toml.
+# Rebuilt when missing or older than environment.txt or pyproject.toml.  pip
+# installs uv (its version pinned in environment.txt), and uv the rest: the
+# same wheels, in 2 s from its cache where pip takes 45 s.
+UV := $(BIN)/uv pip install --quiet --python $(BIN)/python
 $(STAMP): environment.txt pyproject.toml
 	rm -rf $(VENV)
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet -r environment.txt
-	$(BIN)/python -m pip install --quiet --no-deps -e .
+	$(BIN)/python -m pip install --quiet "$$(grep '^uv==' environment.txt)"
+	$(UV) -r environment.txt
+	$(UV) --no-deps -e .
 	$(BIN)/python -m ipykernel install --sys-prefix --name python3 > /dev/null
 	touch $(STAMP)
 

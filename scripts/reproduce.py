@@ -14,6 +14,10 @@ The exit status is 3 when an output is beyond tolerance while the sources it
 is made from are HEAD's (a failed reproduction), else 0; the files stay as
 written either way.  A run that reran nothing says so and compares nothing.
 
+Before any notebook runs, the package's step loops are compiled, or loaded
+from numba's cache, in two processes at once (``scripts/warm_loops.py``),
+so that notebooks started together do not compile the same loop twice.
+
 The notebooks are independent, except those in ``LAST``, which read what the
 others write: they run after them, whenever one of the others ran.  The
 others run ``JOBS`` at a time (each in its own kernel), longest first
@@ -312,6 +316,7 @@ def main(names=()):
     committed files (:func:`rerun_report.report`, which gives the exit status)."""
     import paper
     import build_site
+    import warm_loops
     total = time.perf_counter()
     state = freshness.State()
     if names and not any(s.name.startswith(tuple(names)) for s in NOTEBOOKS):
@@ -326,6 +331,9 @@ def main(names=()):
         print(f"{script.relative_to(ROOT)}: runs ({why})", flush=True)
         before[script] = state.before([script])
     snapshot = state.snapshot()
+    if chosen:
+        print(f"step loops compiled or loaded from numba's cache: {warm_loops.warm():.1f} s",
+              flush=True)
     for script, notebook, error, seconds in execute_all([s for s, _ in chosen]):
         if error is not None:
             state.forget(script.stem)

@@ -2,15 +2,17 @@
 scipy's ``_ivp/common.py``), the step grid, and the choice between the
 compiled and the plain-Python path."""
 
+import ctypes
 import numbers
 import sys
 import warnings
+from typing import NamedTuple
 
 import numpy as np
-from numba import typeof
+from numba import carray, typeof
 from numba.core import types
 from numba.core.registry import CPUDispatcher
-from numba.extending import overload
+from numba.extending import intrinsic, overload
 
 from .status import short
 
@@ -96,6 +98,71 @@ def _wrong_length_compiled(g, m):
     if isinstance(g, (types.UniTuple, types.List)):
         return lambda g, m: len(g) != m
     return None  # anything else is a numba typing error naming the type
+
+
+class Adapted(NamedTuple):
+    """The one extra argument of a loop whose ``fun`` is an adapter
+    (:func:`splinestep._compile.loop_callables`): ``token``, the address of
+    the run's buffer, whose first m floats receive F's value."""
+    token: int
+
+
+def _is_adapted(args):
+    return (isinstance(args, types.BaseTuple) and len(args) == 1
+            and isinstance(args[0], types.BaseNamedTuple) and args[0].instance_class is Adapted)
+
+
+def evaluate(fun, args, t, y, yp):
+    """F(t, y, y') in a compiled loop, as something indexable by component
+    (compiled code only): ``as_vector(fun(t, y, yp, *args))``, or, when
+    ``args`` is ``(Adapted(token),)``, the adapter's call ``fun(t, y, yp,
+    token)``, which writes F into the first m floats at the address
+    ``token`` and returns 0 (1: F had the wrong length; an empty array is
+    returned).  Those floats are one buffer per run, read as an array with
+    no reference count: a caller reads it before the next evaluation.
+    Called from Python (a loop run uncompiled), the same."""
+    if len(args) == 1 and isinstance(args[0], Adapted):
+        token = args[0].token
+        n = y.shape[0] * (1 - fun(t, y, yp, token))
+        return np.ctypeslib.as_array((ctypes.c_double * n).from_address(token)) if n \
+            else np.empty(0)
+    return as_vector(fun(t, y, yp, *args))
+
+
+@overload(evaluate, inline="always")
+def _evaluate_compiled(fun, args, t, y, yp):
+    if _is_adapted(args):
+        def adapted(fun, args, t, y, yp):
+            token = args[0].token
+            # status 0: the m values; 1: none (no branch, which inlining keeps simple)
+            return carray(float_pointer(token), y.shape[0] * (1 - fun(t, y, yp, token)))
+        return adapted
+    return lambda fun, args, t, y, yp: as_vector(fun(t, y, yp, *args))
+
+
+def jacobian(jac, args, t, y, yp):
+    """``jac(t, y, yp, *args)`` in a compiled loop, or ``jac(t, y, yp,
+    token)`` for an adapter (:func:`evaluate`)."""
+    if len(args) == 1 and isinstance(args[0], Adapted):
+        return jac(t, y, yp, args[0].token)
+    return jac(t, y, yp, *args)
+
+
+@overload(jacobian)
+def _jacobian_compiled(jac, args, t, y, yp):
+    if _is_adapted(args):
+        return lambda jac, args, t, y, yp: jac(t, y, yp, args[0].token)
+    return lambda jac, args, t, y, yp: jac(t, y, yp, *args)
+
+
+@intrinsic
+def float_pointer(typingctx, address):
+    """The integer ``address`` as a pointer to float64 (for ``numba.carray``)."""
+    signature = types.CPointer(types.float64)(types.int64)
+
+    def codegen(context, builder, sig, args):
+        return builder.inttoptr(args[0], context.get_value_type(sig.return_type))
+    return signature, codegen
 
 
 def check_state(y0, yp0):

@@ -10,7 +10,11 @@ Here a loop receives ``fun`` (and ``jac``) as a first-class function type,
 names only the signature.  A loop is compiled once per combination of these
 signatures and of the argument types, and numba's on-disk cache, keyed on
 that signature, on the source file and on numba's version, serves every
-later process, whichever module or notebook defines ``fun``.  The call
+later process, whichever module or notebook defines ``fun``.  A compiled
+``fun`` whose extra arguments are numbers or float arrays, and every plain
+one, reach the loop through adapters of one signature (:func:`adapted`,
+:func:`python_callbacks`), so the loops are compiled once per machine for
+all of them, and a new right-hand side compiles only its adapter.  The call
 through a function pointer cannot be inlined; ``make bench`` measures its
 cost per evaluation.
 
@@ -38,8 +42,11 @@ import time
 from pathlib import Path
 
 import numpy as np
-from numba import njit, objmode, typeof, types
+from numba import carray, njit, objmode, typeof, types
 from numba.core import caching, event
+from numba.extending import overload
+
+from ._base import Adapted, as_vector, float_pointer, wrong_length
 
 
 PACKAGE = Path(__file__).resolve().parent
@@ -268,6 +275,8 @@ def loop_types(fun, jac, args):
     ``fun``, ``args`` and ``jac`` (None or a compiled function)."""
     args_type = typeof(args)
     arg_types = tuple(args_type) if len(args) else ()
+    if len(args) == 1 and isinstance(args[0], Adapted):
+        arg_types = (INT,)   # fun(t, y, yp, token)
     fun_type = function_type(fun, arg_types)
     jac_type = types.none if jac is None else function_type(jac, arg_types)
     return fun_type, args_type, jac_type
@@ -309,10 +318,12 @@ def _call_jac(key, t, y, yp):
 
 
 @njit(cache=True)
-def _python_fun(t, y, yp, key):
-    with objmode(g="float64[::1]"):
-        g = _call_fun(key, t, y, yp)
-    return g
+def _python_fun(t, y, yp, token):
+    # An adapter (_base.evaluate): the Python side writes F into the run's
+    # buffer and returns 0, or 1 for a value of the wrong length.
+    with objmode(status="int64"):
+        status = _call_fun(token, t, y, yp)
+    return status
 
 
 def _call_scalar(key, t, y, yp):
@@ -329,9 +340,9 @@ def _python_scalar(t, y, yp, key):
 
 
 @njit(cache=True)
-def _python_jac(t, y, yp, key):
+def _python_jac(t, y, yp, token):
     with objmode(fy="float64[:, ::1]", fyp="float64[:, ::1]"):
-        fy, fyp = _call_jac(key, t, y, yp)
+        fy, fyp = _call_jac(token, t, y, yp)
     return fy, fyp
 
 
@@ -375,15 +386,17 @@ def jac_value_reason(value, t, m):
     return None
 
 
-def _vector(key, t, value, m):
-    """The value of a plain ``fun`` as a new float vector.  What no step can
-    use (:func:`fun_value_reason`) becomes an empty vector, which the loop
-    reports as the wrong shape, and its reason is kept for the message."""
-    reason = fun_value_reason(value, t, m)
+def _written(key, t, value, out):
+    """The value of a plain ``fun`` written into the run's buffer ``out``:
+    0.  What no step can use (:func:`fun_value_reason`) is not written: 1,
+    which the loop reports as the wrong shape, and its reason is kept for
+    the message."""
+    reason = fun_value_reason(value, t, out.shape[0])
     if reason is not None:
         _REASONS[key] = reason
-        return np.empty(0)
-    return np.atleast_1d(np.asarray(value).astype(np.float64))
+        return 1
+    out[:] = np.atleast_1d(np.asarray(value).astype(np.float64))
+    return 0
 
 
 def _matrices(key, t, value, m):
@@ -401,20 +414,23 @@ def _matrices(key, t, value, m):
 def reason(loop_args):
     """The reason kept for the plain callbacks called with ``loop_args``
     (None on the compiled path, or when nothing was wrong)."""
-    key = loop_args[0] if len(loop_args) == 1 and isinstance(loop_args[0], float) else None
-    return _REASONS.pop(key, None)
+    return _REASONS.pop(loop_args[0].token, None)
 
 
 @contextlib.contextmanager
-def python_callbacks(fun, jac, args):
+def python_callbacks(fun, jac, args, m):
     """Within the block, ``(fun, jac, args)`` for a step loop that calls the
-    plain-Python ``fun`` and ``jac`` (or None) with ``args``."""
-    key = float(next(_KEYS))
-    _FUNS[key] = lambda t, y, yp: _vector(key, t, fun(t, y, yp, *args), y.shape[0])
+    plain-Python ``fun`` and ``jac`` (or None) with ``args``, for m
+    equations: the trampolines, adapters as :func:`loop_callables`' whose
+    token, the address of the run's buffer, is also the key that finds the
+    Python functions."""
+    out = np.empty(m)
+    key = out.ctypes.data
+    _FUNS[key] = lambda t, y, yp: _written(key, t, fun(t, y, yp, *args), out)
     if jac is not None:
-        _JACS[key] = lambda t, y, yp: _matrices(key, t, jac(t, y, yp, *args), y.shape[0])
+        _JACS[key] = lambda t, y, yp: _matrices(key, t, jac(t, y, yp, *args), m)
     try:
-        yield _python_fun, (no_jacobian(1) if jac is None else _python_jac), (key,)
+        yield (_python_fun, no_jacobian(1) if jac is None else _python_jac, (Adapted(key),))
     finally:
         _FUNS.pop(key, None)
         _JACS.pop(key, None)
@@ -448,8 +464,7 @@ def _scalar_callback(f, args):
 # Without a jac, the loop is given :func:`no_jacobian`'s function, which
 # returns two empty matrices and has the type a jac of the same arguments
 # returning two C-ordered matrices has: so the loop compiled for a ``fun``
-# serves its runs with and without such a jac, and a new type of ``fun``
-# compiles one loop, not two.  The Newton step sees the empty matrices and
+# serves its runs with and without such a jac (one loop, not two).  The Newton step sees the empty matrices and
 # takes finite differences (a given jac was checked at the start to return
 # two (m, m) matrices, m >= 1, so it never returns empty ones).
 _NO_JACOBIAN = {}
@@ -472,13 +487,161 @@ def no_jacobian(n_args):
     return _NO_JACOBIAN[n_args]
 
 
-def loop_callables(path, fun, jac, args):
-    """A context giving the ``(fun, jac, args)`` a step loop is called with:
-    those given on the compiled path, Python callbacks on the plain one;
-    without a ``jac``, :func:`no_jacobian`'s stand-in."""
+# A loop is compiled for the types of its ``fun`` and ``args`` (seconds for
+# each loop).  So that a new compiled right-hand side compiles no loop, one
+# whose extra arguments are numbers or float arrays (the usual case;
+# ``check_args`` makes numbers floats and numeric arrays float) reaches the
+# loop through an adapter of one fixed signature, ``adapted(t, y, yp,
+# token) -> int64``: ``token`` is the address of the run's buffer of m + k
+# floats, whose last k hold the extra arguments packed, and into whose first
+# m, ``out``, the adapter writes F's value (returning 0, or 1 when F's value
+# has the wrong length; :func:`splinestep._base.evaluate`).  ``fun`` is
+# compiled again from its Python source with ``inline="always"`` (and its
+# own options), so that its arithmetic is inlined into the adapter, which
+# the loop calls through a function pointer: the same operations on the same
+# numbers as a call of ``fun``, with no array passed or returned per call
+# but those y and y'.  Only the adapter is compiled per right-hand side
+# (tenths of a second, in each process); the loop once per machine for all
+# of them, and the plain-Python trampolines have the same signature, so the
+# plain path runs the same compiled loop.  A ``fun`` with a tuple (or a bool
+# array) among its arguments reaches the loop as it is, with a loop compiled
+# for its types.
+_ADAPTED = {}
+_ADAPTER_SOURCE = {
+    "fun": """
+def adapted(t, y, yp, token):
+    m = y.shape[0]
+    packed = carray(float_pointer(token), m + {size})
+    g = as_vector(f(t, y, yp{params}))
+    if wrong_length(g, m):
+        return 1
+    for j in range(m):
+        packed[j] = g[j]
+    return 0
+""",
+    "jac": """
+def adapted(t, y, yp, token):
+    m = y.shape[0]
+    packed = carray(float_pointer(token), m + {size})
+    fy, fyp = f(t, y, yp{params})
+    return c_matrix(fy), c_matrix(fyp)
+"""}
+
+
+def c_matrix(a):
+    """``a`` as a C-ordered float64 matrix (compiled code only)."""
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
+@overload(c_matrix)
+def _c_matrix_compiled(a):
+    if isinstance(a, types.Array) and a.ndim == 2 and a.layout == "C" and a.dtype == FLOAT:
+        return lambda a: a
+
+    def copy(a):
+        a = np.asarray(a)
+        out = np.empty(a.shape)
+        out[...] = a
+        return out
+    return copy
+
+
+def _kind(value):
+    """How an extra argument travels packed: "bool", "float", the shape of
+    a C-ordered float array, or None (it cannot: a tuple, a bool array)."""
+    if isinstance(value, (bool, np.bool_)):
+        return "bool"
+    if isinstance(value, float):
+        return "float"
+    if (isinstance(value, np.ndarray) and value.dtype == np.float64 and value.ndim >= 1
+            and value.flags.c_contiguous):
+        return value.shape
+    return None
+
+
+def packable(args):
+    """True when every extra argument is a number (float or bool) or a
+    C-ordered float array, which the adapters pass packed."""
+    return all(_kind(a) is not None for a in args)
+
+
+def _unpacked(kinds):
+    """(the expressions that give back each argument inside an adapter:
+    an element of ``packed`` after the m of F, or a C-ordered view of it
+    with the array's shape; the number of floats packed)."""
+    offset, out = 0, []
+    for kind in kinds:
+        if kind in ("float", "bool"):
+            out.append(f"packed[m + {offset}]" + (" != 0.0" if kind == "bool" else ""))
+            offset += 1
+        else:
+            size = int(np.prod(kind))
+            view = f"packed[m + {offset}:m + {offset + size}]"
+            out.append(view if len(kind) == 1 else f"{view}.reshape({kind!r})")
+            offset += size
+    return "".join(", " + e for e in out), offset
+
+
+def _inlined(f):
+    """``f`` compiled again from its Python source to be inlined where it is
+    called, with its own options (fastmath, error model), or ``f`` itself
+    when it has no Python source to compile."""
+    options = {k: v for k, v in f.targetoptions.items()
+               if k not in ("cache", "inline", "nopython", "forceobj", "parallel")}
+    if f.targetoptions.get("parallel") or not callable(getattr(f, "py_func", None)):
+        return f
+    return njit(inline="always", **options)(f.py_func)
+
+
+def adapted(kind, f, args):
+    """The adapter (``kind`` "fun" or "jac") of the compiled ``f`` for the
+    arguments ``args`` (:func:`packable`): compiled once per process,
+    function, and kinds and shapes of arguments, with ``f``'s options."""
+    kinds = tuple(_kind(a) for a in args)
+    key = (kind, f, kinds)
+    with _LOOPS_LOCK:
+        if key not in _ADAPTED:
+            params, size = _unpacked(kinds)
+            options = {k: v for k, v in f.targetoptions.items()
+                       if k in ("fastmath", "error_model", "boundscheck")}
+            for inner in ((_inlined(f), f) if kind == "fun" else (f,)):
+                space = {"np": np, "carray": carray, "float_pointer": float_pointer,
+                         "as_vector": as_vector, "wrong_length": wrong_length,
+                         "c_matrix": c_matrix, "f": inner}
+                exec(_ADAPTER_SOURCE[kind].format(params=params, size=size), space)
+                adapter = njit(nogil=True, **options)(space["adapted"])
+                try:
+                    adapter.compile((FLOAT, VECTOR, VECTOR, INT))
+                    break
+                except Exception:   # pragma: no cover - f cannot be inlined: call it
+                    if inner is f:
+                        raise
+            _ADAPTED[key] = adapter
+        return _ADAPTED[key]
+
+
+def loop_callables(path, fun, jac, args, m):
+    """A context giving the ``(fun, jac, args)`` a step loop is called with,
+    for m equations: on the compiled path, the adapters of ``fun`` and
+    ``jac`` and ``(Adapted(token),)`` (those given, when an argument
+    cannot be packed); Python callbacks of the adapters' signature on the
+    plain path; without a ``jac``, :func:`no_jacobian`'s stand-in."""
     if path == "plain":
-        return python_callbacks(fun, jac, args)
-    return contextlib.nullcontext((fun, no_jacobian(len(args)) if jac is None else jac, args))
+        return python_callbacks(fun, jac, args, m)
+    if not packable(args):
+        return contextlib.nullcontext((fun, no_jacobian(len(args)) if jac is None else jac,
+                                       args))
+    return _adapted_callables(fun, jac, args, m)
+
+
+@contextlib.contextmanager
+def _adapted_callables(fun, jac, args, m):
+    parts = [np.ravel(a) if isinstance(a, np.ndarray) else [float(a)] for a in args]
+    buffer = np.concatenate([np.empty(m)] + [np.asarray(p, dtype=np.float64) for p in parts])
+    # The loop runs while ``buffer`` is referenced here: its address stays valid.
+    yield (adapted("fun", fun, args),
+           no_jacobian(1) if jac is None else adapted("jac", jac, args),
+           (Adapted(buffer.ctypes.data),))
 
 
 # Newton's matrices built outside the loop (a constant Jacobian, or one

@@ -10,7 +10,7 @@ as calls, they cost each method 1.3 to 1.5 times the time per evaluation
 import numpy as np
 from numba import njit
 
-from ._base import as_vector
+from ._base import evaluate
 from .status import BAD_SHAPE, OK
 from .step import _value_status
 
@@ -54,13 +54,13 @@ def rk4_step(fun, args, t, t_new, dt, y, yp, ypp, y_new, yp_new, a, stage):
             for k in range(m):
                 y_stage[k] = y[k] + c * v[k]
                 v[k] = yp[k] + c * a[k]
-            g = as_vector(fun(t + c, y_stage, v, *args))
+            g = evaluate(fun, args, t + c, y_stage, v)
         else:
             # y'' at the new knot: the first stage of the next step.
             for k in range(m):
                 y_new[k] = y[k] + dt * sum_v[k]
                 yp_new[k] = yp[k] + dt * sum_a[k]
-            g = as_vector(fun(t_new, y_new, yp_new, *args))
+            g = evaluate(fun, args, t_new, y_new, yp_new)
         status = _checked(g, a, m)
         if status != OK:
             return status, j + 1, 0, 0, np.nan
@@ -81,7 +81,7 @@ def verlet_step(fun, args, t_new, dt, y, yp, ypp, y_new, yp_new, a, v):
     for k in range(m):
         y_new[k] = y[k] + dt * yp[k] + (0.5 * dt * dt) * ypp[k]
         v[k] = yp[k] + dt * ypp[k]
-    status = _checked(as_vector(fun(t_new, y_new, v, *args)), a, m)
+    status = _checked(evaluate(fun, args, t_new, y_new, v), a, m)
     for k in range(m):
         yp_new[k] = yp[k] + (0.5 * dt) * (ypp[k] + a[k])
     return status, 1, 0, 0, np.nan

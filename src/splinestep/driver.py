@@ -42,10 +42,11 @@ Settings travel as named tuples (``step.Method`` with its ``Iteration``,
 returns one (:class:`Run`), so the compiled code has ten named arguments
 instead of twenty positional ones.  The method, its iteration and the
 controller are chosen at run time, so numba compiles (and caches) one loop
-per type of ``fun``, ``args``, ``jac`` and ``control``
-(:mod:`splinestep._compile`) and per family of paths (the sweep's, the
-explicit baselines', every other): a new type of ``fun`` costs at most three
-compilations, not one per method and controller, and no two compiled
+per family of paths (the sweep's, the explicit baselines', every other) and
+per type of ``fun``, ``args``, ``jac`` and ``control``; a compiled ``fun``
+whose ``args`` are numbers or float arrays, and every plain one, reach the
+loop through adapters of one type (:mod:`splinestep._compile`), so a new
+``fun`` compiles no loop, only its adapter; and no two compiled
 loops share a name (loops specialised by closure constants share their
 symbol names, which a process loading two of them from the disk cache, each
 compiled by another process, may link to the wrong one).  The run-time
@@ -66,7 +67,7 @@ from numba import njit
 from numba.extending import register_jitable
 
 from . import _compile
-from ._base import FD_STEP, as_vector, wrong_length
+from ._base import FD_STEP, evaluate, wrong_length
 from ._explicit import rk4_step, verlet_step
 from .controllers import CONSTANT, ERROR, REVERSIBLE, first_size, judge, propose
 from .result import HermiteSolution, SplineSolution, new_result, quintic_coefficients
@@ -323,7 +324,7 @@ def _taylor_jerk(fun, args, t0, tf, vec):
     for k in range(m):
         vec[_Y1, k] = vec[_Y, k] + delta * vec[_YP, k] + 0.5 * delta * delta * vec[_YPP, k]
         vec[_YP1, k] = vec[_YP, k] + delta * vec[_YPP, k]
-    g = as_vector(fun(t0 + delta, vec[_Y1], vec[_YP1], *args))
+    g = evaluate(fun, args, t0 + delta, vec[_Y1], vec[_YP1])
     if wrong_length(g, m):
         return BAD_SHAPE
     for k in range(m):
@@ -715,7 +716,8 @@ def run(path, fun, jac, args, method, controller, output, start, control=None, m
     ctrl, vectors = controller
     t_eval = np.empty(0) if t_eval is None else t_eval
     start = (float(start[0]),) + tuple(start[1:])
-    with _compile.loop_callables(path, fun, jac, args) as (loop_fun, loop_jac, loop_args), \
+    with _compile.loop_callables(path, fun, jac, args, start[1].shape[0]) as (
+            loop_fun, loop_jac, loop_args), \
             _compile.scalar_callable(path, control, args) as (loop_control, control_args), \
             _compile.event_tracker(events) as key, \
             _compile.external_matrices(matrices) as matrices_key:

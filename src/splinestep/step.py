@@ -38,7 +38,7 @@ import numpy as np
 from numba import njit
 from numba.extending import register_jitable
 
-from ._base import FD_STEP, as_vector, wrong_length
+from ._base import FD_STEP, evaluate, jacobian, wrong_length
 from ._compile import external_matrix, external_solve
 from .status import BAD_SHAPE, DIVERGED, NON_FINITE, NOT_CONVERGED, OK, SINGULAR
 
@@ -202,7 +202,7 @@ def _build_matrix(fun, args, jac, t_new, dt, s, work, lu, piv, info, it, slot):
         for j in range(m):
             y_new[j] = work[_BASE_Y, j] + wy * z[j]
             yp_new[j] = work[_BASE_YP, j] + wyp * z[j]
-        fy, fyp = jac(t_new, y_new, yp_new, *args)
+        fy, fyp = jacobian(jac, args, t_new, y_new, yp_new)
         fy = np.asarray(fy)
         fyp = np.asarray(fyp)
         # two empty matrices: the stand-in for a missing jac (_compile.no_jacobian)
@@ -220,7 +220,7 @@ def _build_matrix(fun, args, jac, t_new, dt, s, work, lu, piv, info, it, slot):
             for j in range(m):
                 y_new[j] = work[_BASE_Y, j] + wy * z[j]
                 yp_new[j] = work[_BASE_YP, j] + wyp * z[j]
-            gk = as_vector(fun(t_new, y_new, yp_new, *args))
+            gk = evaluate(fun, args, t_new, y_new, yp_new)
             z[k] = saved
             for j in range(m):
                 lu[j, k] = -(gk[j] - work[_G, j]) / step
@@ -304,7 +304,7 @@ def rounding_level(fun, args, t_new, z, y_new, yp_new):
         y_new[k] += sign * EPS * abs(y_new[k])
         yp_new[k] += sign * EPS * abs(yp_new[k])
         scale = max(scale, abs(z[k]))
-    g = as_vector(fun(t_new, y_new, yp_new, *args))
+    g = evaluate(fun, args, t_new, y_new, yp_new)
     if _value_status(g, m) != OK:
         return 0.0
     level = EPS * scale
@@ -361,7 +361,7 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
             # relative convergence test below.
             status = DIVERGED
             break
-        g = as_vector(fun(t_new, y_new, yp_new, *args))
+        g = evaluate(fun, args, t_new, y_new, yp_new)
         nfev += 1
         status = _value_status(g, m)
         if status != OK:
@@ -460,15 +460,17 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
             if not size < np.inf:
                 status = DIVERGED
                 break
-            g = as_vector(fun(t_new, y_new, yp_new, *args))
+            g = evaluate(fun, args, t_new, y_new, yp_new)
             nfev += 1
             status = _value_status(g, m)
             if status != OK:
                 break
             status = NOT_CONVERGED if until_converged else OK
+            # F's value kept in row _G: ``g`` may be the loop's one buffer,
+            # which the finite differences of a new matrix overwrite.
+            for k in range(m):
+                work[_G, k] = g[k]
             if info[slot, 0] == 0.0:
-                for k in range(m):
-                    work[_G, k] = g[k]
                 fe, je, status = _build_matrix(fun, args, jac, t_new, dt, s, work, lu_slot,
                                                piv_slot, info[slot], it, slot)
                 nfev += fe
@@ -479,9 +481,9 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
                 status = NOT_CONVERGED if until_converged else OK
             residual, scale = 0.0, 0.0
             for k in range(m):
-                dz[k] = g[k] - z[k]
+                dz[k] = work[_G, k] - z[k]
                 residual = max(residual, abs(dz[k]))
-                scale = max(scale, abs(g[k]))
+                scale = max(scale, abs(work[_G, k]))
             if (until_converged and it.matrices >= 0.0 and residual <= ROUNDING_MULTIPLE
                     * _rounding_bound(info[slot, 2], wy, wyp, y_new, yp_new, scale)):
                 # Matrices built in Python (a constant or sparse Jacobian): a
