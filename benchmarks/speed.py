@@ -481,7 +481,7 @@ def main(quick=False):
     if not quick:
         commands, notebooks, test_files = command_rows()
         lines += ["", "**The two commands** on a fresh clone of the committed state "
-                  "(pip's download cache as it was)", ""]
+                  "(the download caches of uv and pip as they were)", ""]
         lines += table(["command", "seconds"], [[label, f"{s:.0f}"] for label, s in commands])
         lines += ["", "**Each notebook** in the fresh clone's `make reproduce` (two at a time; "
                   "the claims notebook from the moment the others are done): wall seconds, "
