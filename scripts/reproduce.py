@@ -291,9 +291,17 @@ def _paper_sources():
 
 
 def _site_sources():
+    # The package's modules too: the API page is made from their docstrings.
     return freshness.files(("README.md", "notebooks/*.ipynb", "paper/splinestep.pdf",
                             "paper/splinestep.typ", "figures/*.png", "data/*.csv", "website/*",
-                            "website/_static/*", "scripts/build_site.py", "environment.txt"))
+                            "website/_static/*", "scripts/build_site.py", "environment.txt",
+                            "src/splinestep/*.py", "src/splinestep/*/*.py"))
+
+
+def site_is_current():
+    """True when build/site is what :func:`build_site.build` would make now:
+    built by make reproduce from the files it is made of as they are."""
+    return freshness.State().why_stale("site", _site_sources(), common=False) is None
 
 
 def build_if_stale(state, name, sources, build, output):

@@ -1,5 +1,7 @@
 """The website (`make reproduce`, `scripts/build_site.py`): built from the committed
-notebooks and paper, every page opened in headless Chromium with no network.
+notebooks and paper (or the one `make reproduce` built, when it is up to date
+with every file it is made of), every page opened in headless Chromium with no
+network, at both widths at once.
 
 Every page loads; every image loads and has alt text; every link within
 the site leads to a file of it, and its #anchor to an element of that
@@ -162,6 +164,12 @@ def anchors(path):
 
 @pytest.fixture(scope="module")
 def site(tmp_path_factory):
+    """The site ``make reproduce`` built in build/site when it is up to date
+    with every file it is made of (by contents: ``scripts/freshness.py``);
+    else the site built here."""
+    import reproduce
+    if reproduce.site_is_current():
+        return build_site.SITE
     output = tmp_path_factory.mktemp("site") / "site"
     seconds, pages = build_site.build(output)
     return output
@@ -210,16 +218,29 @@ def test_captions_as_plain_text():
         "steps Δt = 0.08 / 2ᵏ, rtol 10⁻¹³, μ = 0.4, √6, ω₁, H̃, Tₕ"
 
 
-@pytest.fixture(scope="module")
-def browser():
-    """One headless Chromium for the module's browser tests, its scrollbars
-    shown (playwright hides them by default)."""
+def read_in_own_browser(site, window):
+    """:func:`read_pages` in a headless Chromium of its own, its scrollbars
+    shown (playwright hides them by default), started by this thread's own
+    playwright (playwright's objects belong to the thread that made them)."""
     from playwright.sync_api import sync_playwright
     with sync_playwright() as playwright:
         browser = playwright.chromium.launch(executable_path=CHROMIUM, args=FLAGS,
                                              ignore_default_args=["--hide-scrollbars"])
-        yield browser
-        browser.close()
+        try:
+            return read_pages(browser, site, window)
+        finally:
+            browser.close()
+
+
+@pytest.fixture(scope="module")
+def readings(site):
+    """{window: what :func:`read_pages` found}, every window read at once,
+    each in its own thread and browser."""
+    from concurrent.futures import ThreadPoolExecutor
+    with ThreadPoolExecutor(len(VIEWPORTS)) as pool:
+        futures = {window: pool.submit(read_in_own_browser, site, window)
+                   for window in VIEWPORTS}
+        return {window: future.result() for window, future in futures.items()}
 
 
 def read_pages(browser, site, window):
@@ -279,7 +300,7 @@ def read_pages(browser, site, window):
 @pytest.mark.skipif(CHROMIUM is None, reason="no chromium: `make browser` (or "
                     "`apt-get install chromium` as root) installs Debian's, which the test drives")
 @pytest.mark.parametrize("window", VIEWPORTS)
-def test_every_page_in_a_browser(site, browser, window):
+def test_every_page_in_a_browser(readings, window):
     """Every page, in a laptop's window and in a phone's: it loads with no
     script error, its formulas are typeset, its images load and have alt text, its links
     within the site and their #anchors resolve (the id is read from the
@@ -299,7 +320,7 @@ def test_every_page_in_a_browser(site, browser, window):
       same way;
     - a formula is not cut off by more than a glyph's overhang (8 px) at
       the edge of its box, MathJax's or the one around it, or scrolls."""
-    problems, outside, failed, widths = read_pages(browser, site, window)
+    problems, outside, failed, widths = readings[window]
     assert not problems, problems
     assert not outside, f"requests outside the site: {outside[:5]}"
     # A file MathJax asks for on demand while the next page loads is aborted by
