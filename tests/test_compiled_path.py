@@ -198,11 +198,15 @@ def _spring_three(t, y, yp, a, b, c):
 
 def test_a_new_compiled_fun_runs_the_loops_already_compiled_with_its_own_numbers():
     """A compiled fun whose args are numbers or float arrays goes through an
-    adapter (its args packed in the run's buffer, a matrix among them): a
-    new such fun, of another length and number of args, compiles no loop,
-    and gives bit for bit what the same arithmetic gives when the loop
-    calls fun itself (args in a tuple, which cannot be packed: a loop
-    compiled for those types), on the sweep, Newton and RK4."""
+    adapter (its args packed in the run's buffer, a matrix among them, and
+    F written into that buffer, which Newton's finite differences overwrite
+    while F's value is still needed).  A new such fun, of another length and
+    number of args, compiles no loop; on the sweep, Newton and RK4 it gives
+    what the plain-Python path gives with the same function (the same loops,
+    numpy's arithmetic in place of numba's: equal counters, values to
+    rounding), and on RK4 bit for bit what the loop gives when it calls fun
+    itself (args in a tuple, which cannot be packed: a loop compiled for
+    those types, the explicit one being the quickest to compile)."""
     m = 4
     stiffness = (np.diag(-2.0 * np.ones(m)) + np.diag(np.ones(m - 1), 1)
                  + np.diag(np.ones(m - 1), -1))
@@ -216,15 +220,18 @@ def test_a_new_compiled_fun_runs_the_loops_already_compiled_with_its_own_numbers
                   yp0=np.zeros(3))
         assert res.success
     loops = set(_compile._LOOPS)
-    packed = [run(_chain_packed, (stiffness, 0.05, 3.0)) for run in runs]
+    args = (stiffness, 0.05, 3.0)
+    packed = [run(_chain_packed, args) for run in runs]
+    plain = [run(_chain_packed.py_func, args) for run in runs]
     assert set(_compile._LOOPS) == loops
-    direct = [run(_chain_tuple, ((stiffness, 0.05, 3.0),)) for run in runs]
-    assert set(_compile._LOOPS) > loops   # the tuple's own loops
-    for a, b in zip(packed, direct):
-        assert a.success and b.success and a.path == b.path == "compiled"
-        assert (a.nfev, a.niter, a.nstep) == (b.nfev, b.niter, b.nstep)
-        for key in ("y", "yp", "ypp"):
-            np.testing.assert_array_equal(a[key], b[key])
+    for a, b in zip(packed, plain):
+        assert a.path == "compiled" and b.path == "plain"
+        assert_same(a, b)
+    direct = splinestep.rk4(_chain_tuple, (0.0, 3.0), y0, yp0, 0.01, args=(args,))
+    assert set(_compile._LOOPS) > loops   # the tuple's own loop
+    assert direct.path == "compiled" and direct.nfev == packed[2].nfev
+    for key in ("y", "yp", "ypp"):
+        np.testing.assert_array_equal(packed[2][key], direct[key])
     # and they are the chain's, y'' = 3 K y - 0.05 y' (scipy at rtol 1e-12):
     # within the sweep's O(h^2) error (2e-5 at h = 0.01), where a matrix
     # packed or read back wrongly is off by the size of y (0.1)
