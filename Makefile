@@ -40,9 +40,9 @@ EMULATED_CPU := NPY_DISABLE_CPU_FEATURES="AVX512_ICL AVX512_SPR X86_V4 X86_V3" N
 env: $(STAMP) $(FAST_IMPORT)
 
 # Rebuilt when missing or older than environment.txt or pyproject.toml.  pip
-# installs uv (its version pinned in environment.txt), and uv the rest: the
-# same wheels, in 10 s from its cache where pip takes 45 s, their bytecode
-# compiled once here (as pip does), not by every process that imports them.
+# installs uv (its version pinned in environment.txt), and uv the rest from
+# PyPI, several times faster than pip, their bytecode compiled once here (as
+# pip does), not by every process that imports them.
 UV := $(BIN)/uv pip install --quiet --compile-bytecode --python $(BIN)/python
 $(STAMP): environment.txt pyproject.toml
 	rm -rf $(VENV)

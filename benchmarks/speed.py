@@ -22,7 +22,8 @@ between the markers ``<!-- begin bench -->`` and ``<!-- end bench -->``):
   archive`` into build/;
 - the two commands as a reader meets them: a fresh clone of the committed
   state (``git clone`` of this repository), ``make reproduce`` (which
-  installs .venv from environment.txt, pip's download cache as it is, and
+  installs .venv from environment.txt, uv's and pip's download caches as
+  they are, and
   compiles the loops into an empty numba cache), then ``make test``, then
   both again warm, then ``make test RERUN=1``; with each notebook's wall,
   CPU and compile seconds in the fresh clone's ``make reproduce`` and each

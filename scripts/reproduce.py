@@ -291,11 +291,14 @@ def _paper_sources():
 
 
 def _site_sources():
-    # The package's modules too: the API page is made from their docstrings.
+    # The package's modules too: the API page is made from their docstrings
+    # (this process does not import the package before the site is built).
     return freshness.files(("README.md", "notebooks/*.ipynb", "paper/splinestep.pdf",
                             "paper/splinestep.typ", "figures/*.png", "data/*.csv", "website/*",
                             "website/_static/*", "scripts/build_site.py", "environment.txt",
-                            "src/splinestep/*.py", "src/splinestep/*/*.py"))
+                            "src/splinestep/*.py", "src/splinestep/*/*.py",
+                            # what website/notebook_reader.py imports from scripts/
+                            "scripts/outputs.py", "scripts/paper.py", "scripts/reproduce.py"))
 
 
 def site_is_current():

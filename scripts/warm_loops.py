@@ -12,22 +12,29 @@ import subprocess
 import sys
 import time
 
-import splinestep
-from numba import njit
+
+def _families():
+    """{name: the solves that compile or load that family of loops}.  The
+    package is imported here, in the child process only: the process that
+    calls :func:`warm` later builds the website's API page from the
+    package's docstrings as they are then."""
+    import splinestep
+    from numba import njit
+
+    @njit
+    def spring(t, y, yp, k):
+        return (-k * y[0],)
+
+    return {
+        "driver": lambda: [splinestep.solve(spring, (0.0, 1.0), 1.0, 0.0, 0.1, args=(1.0,),
+                                            iteration="newton")],
+        "sweep and explicit": lambda: [
+            splinestep.solve(spring, (0.0, 1.0), 1.0, 0.0, 0.1, args=(1.0,)),
+            splinestep.rk4(spring, (0.0, 1.0), 1.0, 0.0, 0.1, args=(1.0,))],
+    }
 
 
-@njit
-def _spring(t, y, yp, k):
-    return (-k * y[0],)
-
-
-FAMILIES = {
-    "driver": lambda: [splinestep.solve(_spring, (0.0, 1.0), 1.0, 0.0, 0.1, args=(1.0,),
-                                        iteration="newton")],
-    "sweep and explicit": lambda: [
-        splinestep.solve(_spring, (0.0, 1.0), 1.0, 0.0, 0.1, args=(1.0,)),
-        splinestep.rk4(_spring, (0.0, 1.0), 1.0, 0.0, 0.1, args=(1.0,))],
-}
+FAMILIES = ("driver", "sweep and explicit")
 
 
 def warm():
@@ -45,5 +52,5 @@ def warm():
 
 
 if __name__ == "__main__":
-    for result in FAMILIES[sys.argv[1]]():
+    for result in _families()[sys.argv[1]]():
         assert result.success and result.path == "compiled", result.message

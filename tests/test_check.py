@@ -56,7 +56,7 @@ def test_a_growing_mode_taken_accurately_is_not_flagged():
     """scipy's rational problem backwards over [5, 1] at h = 1 (error 1.4e-3
     of the solution) grows by 1.2898 per step where the linearised equation
     grows by 1.2884: an accuracy of 0.1 % in the growth rate, not an
-    instability; the check used to call it one."""
+    instability, which a check of the growth alone would call one."""
     problem = rational()
     res, flagged = warned(problem.fun, (5.0, 1.0), problem.y0, problem.yp0, 1.0)
     error = np.max(np.abs(res.y[0] - res.t / (res.t + 10.0)))

@@ -197,8 +197,8 @@ def test_sparse_and_constant_jacobians_give_the_dense_newton_solution():
 
 def test_a_sparse_jac_is_validated_naming_what_is_wrong():
     """A constant pair of the wrong shape, a non-finite sparse part, and a
-    jac that is neither: ValueErrors naming jac and the part (scipy.sparse
-    matrices used to be refused as having shape ())."""
+    jac that is neither: ValueErrors naming jac and the part (a scipy.sparse
+    matrix is accepted, not taken for an array of shape ())."""
     f = lambda t, y, yp: -y   # noqa: E731
     y0 = np.ones(3)
     with pytest.raises(ValueError, match=r"jac must be a pair .* its dF/dy has shape \(2, 2\)"):

@@ -220,8 +220,8 @@ def test_dense_output_derivative_order_is_checked(order, degree):
 
 
 def test_status_codes_are_one_table_of_distinct_codes():
-    """One status table: every code means one thing on every path (the
-    adaptive and reversible loops' 'max_steps reached' were 11 and 21), and
+    """One status table: every code means one thing on every path ('max_steps
+    reached' is one code for the fixed, adaptive and reversible loops), and
     every code a step can fail with has its sentence."""
     from splinestep import status
     assert len(set(status.CODES.values())) == len(status.CODES)

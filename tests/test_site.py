@@ -1,6 +1,6 @@
-"""The website (`make reproduce`, `scripts/build_site.py`): built from the committed
-notebooks and paper (or the one `make reproduce` built, when it is up to date
-with every file it is made of), every page opened in headless Chromium with no
+"""The website (`make reproduce`, `scripts/build_site.py`): built from the
+notebooks and paper as they are (or the one `make reproduce` built, when it is
+up to date with every file it is made of), every page opened in headless Chromium with no
 network, at both widths at once.
 
 Every page loads; every image loads and has alt text; every link within

@@ -464,9 +464,10 @@ def _scalar_callback(f, args):
 # Without a jac, the loop is given :func:`no_jacobian`'s function, which
 # returns two empty matrices and has the type a jac of the same arguments
 # returning two C-ordered matrices has: so the loop compiled for a ``fun``
-# serves its runs with and without such a jac (one loop, not two).  The Newton step sees the empty matrices and
-# takes finite differences (a given jac was checked at the start to return
-# two (m, m) matrices, m >= 1, so it never returns empty ones).
+# serves its runs with and without such a jac (one loop, not two).  The
+# Newton step sees the empty matrices and takes finite differences (a given
+# jac was checked at the start to return two (m, m) matrices, m >= 1, so it
+# never returns empty ones).
 _NO_JACOBIAN = {}
 _NO_JACOBIAN_SOURCE = """
 def no_jacobian(t, y, yp{params}):
