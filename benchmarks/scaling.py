@@ -174,8 +174,8 @@ def paths(problem):
             lambda steps: spline_run(steps, iteration="newton", jac=p.jac), None, True),
         "adaptive (rtol 1e-3, atol 1e-8)": (
             lambda steps: spline_run(None, h=None, **ADAPTIVE_TOL),
-            None if m <= 1_000 else "the whole span, not truncatable, takes minutes: the "
-            "steps grow about as m^2 (23,595 at m = 1,000)", False),
+            None if m <= 1_000 else "the whole span, not truncatable: its steps and the "
+            "cost of each grow with m (the rows of m = 1,000 and below)", False),
         "numpy Newmark + splu (floor)": (
             lambda steps: newmark(p.jac[0], p.t_span, p.y0, p.yp0, p.h, steps), None, True),
         "scipy DOP853": (lambda steps: scipy_run(DOP853, p, steps), None, True),
