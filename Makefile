@@ -30,6 +30,10 @@ FAST_IMPORT := $(VENV)/.fast-import
 export MPLBACKEND := Agg
 export PYTHONHASHSEED := 0
 export SOURCE_DATE_EPOCH := 0
+# Python writes its bytecode caches (__pycache__, ignored by git) even where
+# the environment asks it not to: the package's modules and pytest's
+# rewritten test modules are then compiled once, not again in every process.
+export PYTHONDONTWRITEBYTECODE :=
 
 # numpy's runtime-dispatched kernels beyond the baseline, switched off to see
 # what another CPU's rounding does (names not present on a CPU are ignored).

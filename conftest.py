@@ -123,7 +123,10 @@ def pytest_collection_modifyitems(config, items):
     after every other test, and the comparisons of their outputs after
     those: a worker then never waits for a notebook that it would itself
     run later, and waits for the others only when it has nothing else left
-    to run."""
+    to run.  Before them, the long ones first, so that no worker is left with
+    a long file when the other has run out of work: the notebooks in
+    ``reproduce.ORDER`` (longest first), the website's browser test after the
+    two longest, then the rest in their order."""
     kept = [item for item in items if notebook_of(item) not in reproduced()]
     if len(kept) < len(items):
         config.hook.pytest_deselected(items=[i for i in items if i not in kept])
@@ -133,4 +136,9 @@ def pytest_collection_modifyitems(config, items):
         if Path(str(item.path)).name == COMPARISONS:
             return 2
         return 1 if notebook_of(item) in reproduce.LAST else 0
-    items.sort(key=rank)
+
+    def start(item):
+        if notebook_of(item) in reproduce.ORDER:
+            return reproduce.ORDER.index(notebook_of(item))
+        return 1.5 if Path(str(item.path)).name == "test_site.py" else len(reproduce.ORDER)
+    items.sort(key=lambda item: (rank(item), start(item)))

@@ -51,10 +51,9 @@ NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.py"))
 LAST = ("05_claims_and_errata",)
 # Notebooks start longest first (times from `make bench`), so that the short
 # ones fill the gaps at the end; any other notebook starts after these.
-ORDER = ("08_long_time", "09_adaptive_steps", "06_theory", "10_higher_order",
-         "12_hard_step_equations",
-         "11_global_sweep_and_bvp", "07_higher_degree", "02_cannonball", "04_convergence",
-         "03_rigid_body", "01_method")
+ORDER = ("09_adaptive_steps", "08_long_time", "10_higher_order", "06_theory",
+         "12_hard_step_equations", "11_global_sweep_and_bvp", "07_higher_degree",
+         "04_convergence", "03_rigid_body", "02_cannonball", "01_method")
 # Notebooks run at the same time (each kernel is one process).
 JOBS = int(os.environ.get("SPLINESTEP_JOBS", "2"))
 KERNELSPEC = {"name": "python3", "display_name": "Python 3 (ipykernel)", "language": "python"}
