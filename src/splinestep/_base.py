@@ -107,7 +107,13 @@ class Adapted(NamedTuple):
     token: int
 
 
+def is_adapted(args):
+    """True when a loop's ``args`` are ``(Adapted(token),)``."""
+    return len(args) == 1 and isinstance(args[0], Adapted)
+
+
 def _is_adapted(args):
+    """:func:`is_adapted` of the numba type of ``args``."""
     return (isinstance(args, types.BaseTuple) and len(args) == 1
             and isinstance(args[0], types.BaseNamedTuple) and args[0].instance_class is Adapted)
 
@@ -121,7 +127,7 @@ def evaluate(fun, args, t, y, yp):
     returned).  Those floats are one buffer per run, read as an array with
     no reference count: a caller reads it before the next evaluation.
     Called from Python (a loop run uncompiled), the same."""
-    if len(args) == 1 and isinstance(args[0], Adapted):
+    if is_adapted(args):
         token = args[0].token
         n = y.shape[0] * (1 - fun(t, y, yp, token))
         return np.ctypeslib.as_array((ctypes.c_double * n).from_address(token)) if n \
@@ -143,7 +149,7 @@ def _evaluate_compiled(fun, args, t, y, yp):
 def jacobian(jac, args, t, y, yp):
     """``jac(t, y, yp, *args)`` in a compiled loop, or ``jac(t, y, yp,
     token)`` for an adapter (:func:`evaluate`)."""
-    if len(args) == 1 and isinstance(args[0], Adapted):
+    if is_adapted(args):
         return jac(t, y, yp, args[0].token)
     return jac(t, y, yp, *args)
 

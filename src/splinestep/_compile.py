@@ -46,7 +46,7 @@ from numba import carray, njit, objmode, typeof, types
 from numba.core import caching, event
 from numba.extending import overload
 
-from ._base import Adapted, as_vector, float_pointer, wrong_length
+from ._base import Adapted, as_vector, float_pointer, is_adapted, wrong_length
 
 
 PACKAGE = Path(__file__).resolve().parent
@@ -275,7 +275,7 @@ def loop_types(fun, jac, args):
     ``fun``, ``args`` and ``jac`` (None or a compiled function)."""
     args_type = typeof(args)
     arg_types = tuple(args_type) if len(args) else ()
-    if len(args) == 1 and isinstance(args[0], Adapted):
+    if is_adapted(args):
         arg_types = (INT,)   # fun(t, y, yp, token)
     fun_type = function_type(fun, arg_types)
     jac_type = types.none if jac is None else function_type(jac, arg_types)
