@@ -79,8 +79,10 @@ def as_vector(g):
 
 @overload(as_vector)
 def _as_vector_compiled(g):
-    if isinstance(g, (types.Float, types.Integer)):
+    if isinstance(g, (types.Float, types.Integer, types.Boolean)):
         return lambda g: (float(g),)  # a scalar is the one component of m = 1
+    if isinstance(g, types.Array) and g.ndim == 0:
+        return lambda g: (float(g[()]),)
     return lambda g: g
 
 
@@ -346,41 +348,17 @@ def check_t_eval(t_eval, t0, tf):
 
 
 def check_args(args):
-    """``args`` with numbers as floats and numeric arrays as float arrays, so
-    that ``args=(1,)`` and ``args=(1.0,)`` run the same compiled code."""
+    """``args`` as given, a tuple, each passed to ``fun`` as it is (numba
+    types an int as int64 and a float as float64, as a call from Python
+    does); a complex number or array is a ValueError."""
     if not isinstance(args, tuple):
         raise ValueError(f"args must be a tuple, got {type(args).__name__}")
-    coerced = []
     for value in args:
-        if isinstance(value, (bool, np.bool_)):
-            coerced.append(value)
-        elif isinstance(value, numbers.Real):
-            coerced.append(float(value))
-        elif isinstance(value, numbers.Complex):
+        if isinstance(value, numbers.Complex) and not isinstance(value, numbers.Real):
             raise ValueError("args must be real: complex values are not supported")
-        elif isinstance(value, np.ndarray) and value.dtype.kind in "iuf":
-            coerced.append(np.ascontiguousarray(value, dtype=float))
-        elif isinstance(value, np.ndarray) and value.dtype.kind == "c":
+        if isinstance(value, np.ndarray) and value.dtype.kind == "c":
             raise ValueError("args must be real: complex arrays are not supported")
-        else:
-            coerced.append(value)
-    return tuple(coerced)
-
-
-COMPILED_ARGS = "numbers, numpy arrays, or tuples of them"
-
-
-def check_compiled_args(args):
-    """A ValueError when a compiled ``fun`` is given ``args`` that numba
-    cannot pass (a dict, a list, an object): say what to pass instead."""
-    for value in args:
-        if isinstance(value, tuple):
-            check_compiled_args(value)
-        elif not isinstance(value, (float, bool, np.bool_, np.ndarray, np.number)):
-            raise ValueError(
-                f"args of a compiled fun must be {COMPILED_ARGS}; got a "
-                f"{type(value).__name__} (pass its values as floats or arrays, or use a "
-                "plain-Python fun)")
+    return args
 
 
 def _describe(value):
@@ -510,16 +488,21 @@ def is_compiled(f):
 
 
 def choose_path(fun, jac, args):
-    """"compiled" when ``fun`` (and ``jac``, if any) are numba-compiled,
-    else "plain".  A compiled ``fun`` slowed down by a plain ``jac`` gets a
-    warning; ``args`` a compiled loop cannot take get a ValueError."""
-    if not is_compiled(fun):
+    """"compiled" when ``fun`` (and ``jac``, if any) are numba-compiled in
+    nopython mode, else "plain".  A compiled ``fun`` slowed down by a plain
+    ``jac`` gets a warning."""
+    if not is_compiled(fun) or _object_mode(fun):
         return "plain"
-    if jac is not None and not is_compiled(jac):
+    if jac is not None and (not is_compiled(jac) or _object_mode(jac)):
         warnings.warn("fun is compiled but jac is plain Python, so the loop calls both "
                       "through the interpreter (the plain path, slower per evaluation); "
                       "compile jac with numba.njit too",
                       UserWarning, stacklevel=4)
         return "plain"
-    check_compiled_args(args)
     return "compiled"
+
+
+def _object_mode(f):
+    """True for a numba function compiled in object mode
+    (``jit(forceobj=True)``): the loop calls it from Python, as a plain one."""
+    return bool(f.targetoptions.get("forceobj"))

@@ -35,6 +35,7 @@ References
 
 import ast
 import contextlib
+import contextvars
 import hashlib
 import itertools
 import threading
@@ -42,11 +43,11 @@ import time
 from pathlib import Path
 
 import numpy as np
-from numba import carray, njit, objmode, typeof, types
+from numba import njit, objmode, typeof, types
 from numba.core import caching, event
-from numba.extending import overload
 
-from ._base import Adapted, as_vector, float_pointer, is_adapted, wrong_length
+from . import _adapters
+from ._base import Adapted, is_adapted
 
 
 PACKAGE = Path(__file__).resolve().parent
@@ -372,9 +373,10 @@ def fun_value_reason(value, t, m):
     return None
 
 
-def jac_value_reason(value, t, m):
+def jac_value_reason(value, t, m, finite=False):
     """None when ``value``, what a plain ``jac`` returned at t, is two (m, m)
-    arrays of real numbers; otherwise why not."""
+    arrays of real numbers (``finite`` ones, when asked); otherwise why
+    not."""
     try:
         parts = [np.asarray(part) for part in value]
     except TypeError:
@@ -383,14 +385,22 @@ def jac_value_reason(value, t, m):
                               or np.atleast_2d(part).shape != (m, m) for part in parts):
         return (f"jac did not return two arrays of shape ({m}, {m}) of real numbers at "
                 f"t = {t:.10g}")
+    for name, part in zip(("dF/dy", "dF/dyp"), parts):
+        if finite and not np.all(np.isfinite(part)):
+            return f"jac returned a value that is not finite in its {name} at t = {t:.10g}"
     return None
 
 
-def _written(key, t, value, out):
-    """The value of a plain ``fun`` written into the run's buffer ``out``:
-    0.  What no step can use (:func:`fun_value_reason`) is not written: 1,
-    which the loop reports as the wrong shape, and its reason is kept for
-    the message."""
+def _written(key, t, fun, args, y, yp, out, buffer):
+    """The value of a plain ``fun`` at (t, y, yp) written into the run's
+    buffer ``out``: 0.  What no step can use (:func:`fun_value_reason`) is
+    not written: 1, which the loop reports as the wrong shape, and its
+    reason is kept for the message.  After an interrupt, 1 without calling
+    ``fun``."""
+    if buffer.slots[buffer.m + _adapters.INTERRUPT]:
+        buffer.slots[buffer.m + _adapters.WHY] = _adapters.INTERRUPTED
+        return 1
+    value = fun(t, y, yp, *args)
     reason = fun_value_reason(value, t, out.shape[0])
     if reason is not None:
         _REASONS[key] = reason
@@ -404,33 +414,35 @@ def _matrices(key, t, value, m):
     is not two such arrays (:func:`jac_value_reason`) becomes NaN, which the
     loop reports as a failed Newton solve, and its reason is kept for the
     message."""
-    reason = jac_value_reason(value, t, m)
+    reason = jac_value_reason(value, t, m, finite=True)
     if reason is not None:
         _REASONS[key] = reason
         return np.full((m, m), np.nan), np.full((m, m), np.nan)
     return tuple(np.array(part, dtype=np.float64, ndmin=2) for part in value)
 
 
-def reason(loop_args):
-    """The reason kept for the plain callbacks called with ``loop_args``
-    (None on the compiled path, or when nothing was wrong)."""
-    return _REASONS.pop(loop_args[0].token, None)
+def reason(loop_args, buffer):
+    """Why the run's ``fun`` or ``jac`` last returned a value the loop could
+    not use, as the plain path says it, or None."""
+    return _REASONS.pop(loop_args[0].token, None) or buffer.reason()
 
 
 @contextlib.contextmanager
 def python_callbacks(fun, jac, args, m):
-    """Within the block, ``(fun, jac, args)`` for a step loop that calls the
-    plain-Python ``fun`` and ``jac`` (or None) with ``args``, for m
-    equations: the trampolines, adapters as :func:`loop_callables`' whose
-    token, the address of the run's buffer, is also the key that finds the
+    """Within the block, ``(fun, jac, args, buffer)`` for a step loop that
+    calls the plain-Python ``fun`` and ``jac`` (or None) with ``args``, for
+    m equations: the trampolines, of the adapters' signature
+    (:func:`loop_callables`), whose token, the address of the run's
+    :class:`splinestep._adapters.Buffer`, is also the key that finds the
     Python functions."""
-    out = np.empty(m)
-    key = out.ctypes.data
-    _FUNS[key] = lambda t, y, yp: _written(key, t, fun(t, y, yp, *args), out)
+    buffer = _adapters.Buffer(m)
+    out, key = buffer.values[:m], buffer.token
+    _FUNS[key] = lambda t, y, yp: _written(key, t, fun, args, y, yp, out, buffer)
     if jac is not None:
         _JACS[key] = lambda t, y, yp: _matrices(key, t, jac(t, y, yp, *args), m)
     try:
-        yield (_python_fun, no_jacobian(1) if jac is None else _python_jac, (Adapted(key),))
+        yield (_python_fun, no_jacobian(1) if jac is None else _python_jac, (Adapted(key),),
+               buffer)
     finally:
         _FUNS.pop(key, None)
         _JACS.pop(key, None)
@@ -488,161 +500,28 @@ def no_jacobian(n_args):
     return _NO_JACOBIAN[n_args]
 
 
-# A loop is compiled for the types of its ``fun`` and ``args`` (seconds for
-# each loop).  So that a new compiled right-hand side compiles no loop, one
-# whose extra arguments are numbers or float arrays (the usual case;
-# ``check_args`` makes numbers floats and numeric arrays float) reaches the
-# loop through an adapter of one fixed signature, ``adapted(t, y, yp,
-# token) -> int64``: ``token`` is the address of the run's buffer of m + k
-# floats, whose last k hold the extra arguments packed, and into whose first
-# m, ``out``, the adapter writes F's value (returning 0, or 1 when F's value
-# has the wrong length; :func:`splinestep._base.evaluate`).  ``fun`` is
-# compiled again from its Python source with ``inline="always"`` (and its
-# own options), so that its arithmetic is inlined into the adapter, which
-# the loop calls through a function pointer: the same operations on the same
-# numbers as a call of ``fun``, with no array passed or returned per call
-# but those y and y'.  Only the adapter is compiled per right-hand side
-# (tenths of a second, in each process); the loop once per machine for all
-# of them, and the plain-Python trampolines have the same signature, so the
-# plain path runs the same compiled loop.  A ``fun`` with a tuple (or a bool
-# array) among its arguments reaches the loop as it is, with a loop compiled
-# for its types.
-_ADAPTED = {}
-_ADAPTER_SOURCE = {
-    "fun": """
-def adapted(t, y, yp, token):
-    m = y.shape[0]
-    packed = carray(float_pointer(token), m + {size})
-    g = as_vector(f(t, y, yp{params}))
-    if wrong_length(g, m):
-        return 1
-    for j in range(m):
-        packed[j] = g[j]
-    return 0
-""",
-    "jac": """
-def adapted(t, y, yp, token):
-    m = y.shape[0]
-    packed = carray(float_pointer(token), m + {size})
-    fy, fyp = f(t, y, yp{params})
-    return c_matrix(fy), c_matrix(fyp)
-"""}
-
-
-def c_matrix(a):
-    """``a`` as a C-ordered float64 matrix (compiled code only)."""
-    return np.ascontiguousarray(a, dtype=np.float64)
-
-
-@overload(c_matrix)
-def _c_matrix_compiled(a):
-    if isinstance(a, types.Array) and a.ndim == 2 and a.layout == "C" and a.dtype == FLOAT:
-        return lambda a: a
-
-    def copy(a):
-        a = np.asarray(a)
-        out = np.empty(a.shape)
-        out[...] = a
-        return out
-    return copy
-
-
-def _kind(value):
-    """How an extra argument travels packed: "bool", "float", the shape of
-    a C-ordered float array, or None (it cannot: a tuple, a bool array)."""
-    if isinstance(value, (bool, np.bool_)):
-        return "bool"
-    if isinstance(value, float):
-        return "float"
-    if (isinstance(value, np.ndarray) and value.dtype == np.float64 and value.ndim >= 1
-            and value.flags.c_contiguous):
-        return value.shape
-    return None
-
-
-def packable(args):
-    """True when every extra argument is a number (float or bool) or a
-    C-ordered float array, which the adapters pass packed."""
-    return all(_kind(a) is not None for a in args)
-
-
-def _unpacked(kinds):
-    """(the expressions that give back each argument inside an adapter:
-    an element of ``packed`` after the m of F, or a C-ordered view of it
-    with the array's shape; the number of floats packed)."""
-    offset, out = 0, []
-    for kind in kinds:
-        if kind in ("float", "bool"):
-            out.append(f"packed[m + {offset}]" + (" != 0.0" if kind == "bool" else ""))
-            offset += 1
-        else:
-            size = int(np.prod(kind))
-            view = f"packed[m + {offset}:m + {offset + size}]"
-            out.append(view if len(kind) == 1 else f"{view}.reshape({kind!r})")
-            offset += size
-    return "".join(", " + e for e in out), offset
-
-
-def _inlined(f):
-    """``f`` compiled again from its Python source to be inlined where it is
-    called, with its own options (fastmath, error model), or ``f`` itself
-    when it has no Python source to compile."""
-    options = {k: v for k, v in f.targetoptions.items()
-               if k not in ("cache", "inline", "nopython", "forceobj", "parallel")}
-    if f.targetoptions.get("parallel") or not callable(getattr(f, "py_func", None)):
-        return f
-    return njit(inline="always", **options)(f.py_func)
-
-
-def adapted(kind, f, args):
-    """The adapter (``kind`` "fun" or "jac") of the compiled ``f`` for the
-    arguments ``args`` (:func:`packable`): compiled once per process,
-    function, and kinds and shapes of arguments, with ``f``'s options."""
-    kinds = tuple(_kind(a) for a in args)
-    key = (kind, f, kinds)
-    with _LOOPS_LOCK:
-        if key not in _ADAPTED:
-            params, size = _unpacked(kinds)
-            options = {k: v for k, v in f.targetoptions.items()
-                       if k in ("fastmath", "error_model", "boundscheck")}
-            for inner in ((_inlined(f), f) if kind == "fun" else (f,)):
-                space = {"np": np, "carray": carray, "float_pointer": float_pointer,
-                         "as_vector": as_vector, "wrong_length": wrong_length,
-                         "c_matrix": c_matrix, "f": inner}
-                exec(_ADAPTER_SOURCE[kind].format(params=params, size=size), space)
-                adapter = njit(nogil=True, **options)(space["adapted"])
-                try:
-                    adapter.compile((FLOAT, VECTOR, VECTOR, INT))
-                    break
-                except Exception:   # pragma: no cover - f cannot be inlined: call it
-                    if inner is f:
-                        raise
-            _ADAPTED[key] = adapter
-        return _ADAPTED[key]
-
-
 def loop_callables(path, fun, jac, args, m):
-    """A context giving the ``(fun, jac, args)`` a step loop is called with,
-    for m equations: on the compiled path, the adapters of ``fun`` and
-    ``jac`` and ``(Adapted(token),)`` (those given, when an argument
-    cannot be packed); Python callbacks of the adapters' signature on the
-    plain path; without a ``jac``, :func:`no_jacobian`'s stand-in."""
+    """A context giving the ``(fun, jac, args, buffer)`` a step loop is
+    called with, for m equations, and the run's
+    :class:`splinestep._adapters.Buffer`: on the compiled path the adapters
+    that call the user's own compiled ``fun`` and ``jac``
+    (:func:`splinestep._adapters.adapted_callables`), on the plain path the
+    trampolines into the interpreter; both of the one signature
+    ``(t, y, yp, token)``, so that every right-hand side runs the same
+    compiled loops.  Without a ``jac``, :func:`no_jacobian`'s stand-in."""
     if path == "plain":
         return python_callbacks(fun, jac, args, m)
-    if not packable(args):
-        return contextlib.nullcontext((fun, no_jacobian(len(args)) if jac is None else jac,
-                                       args))
     return _adapted_callables(fun, jac, args, m)
 
 
 @contextlib.contextmanager
 def _adapted_callables(fun, jac, args, m):
-    parts = [np.ravel(a) if isinstance(a, np.ndarray) else [float(a)] for a in args]
-    buffer = np.concatenate([np.empty(m)] + [np.asarray(p, dtype=np.float64) for p in parts])
-    # The loop runs while ``buffer`` is referenced here: its address stays valid.
-    yield (adapted("fun", fun, args),
-           no_jacobian(1) if jac is None else adapted("jac", jac, args),
-           (Adapted(buffer.ctypes.data),))
+    fun_adapter, jac_adapter, loop_args, buffer = _adapters.adapted_callables(
+        fun, jac, args, m, source_stamp(_adapters.__file__))
+    # The loop runs while ``buffer`` (and the arrays of args) are referenced
+    # here: the addresses in it stay valid.
+    yield (fun_adapter, no_jacobian(1) if jac_adapter is None else jac_adapter, loop_args,
+           buffer)
 
 
 # Newton's matrices built outside the loop (a constant Jacobian, or one
@@ -727,6 +606,44 @@ def event_tracker(tracker):
     (-1.0 for None: no events)."""
     with _registered(_TRACKERS, tracker) as key:
         yield key
+
+
+def interruptible(call, buffer):
+    """``call()``, the run of a compiled loop, made interruptible: in the
+    main thread it runs in a worker thread while the main thread waits, so
+    that Ctrl-C (SIGINT) reaches Python at once.  The run is then told to
+    stop (the flag in its ``buffer``, which the adapter and the plain
+    trampoline read at every evaluation of fun), it ends at its next
+    evaluation, and KeyboardInterrupt is raised here, in a script as in a
+    Jupyter kernel, which survives.  In another thread (where no
+    KeyboardInterrupt is delivered) ``call()`` runs where it is.  The
+    worker runs in a copy of the caller's context (numpy's ``errstate`` is
+    one), and what ``call()`` raises is raised here."""
+    if threading.current_thread() is not threading.main_thread():
+        return call()
+    box = {}
+    context = contextvars.copy_context()   # numpy's errstate, among others
+
+    def target():
+        try:
+            box["out"] = context.run(call)
+        except BaseException as error:   # re-raised in the caller's thread
+            box["error"] = error
+
+    worker = threading.Thread(target=target, name="splinestep-run", daemon=True)
+    worker.start()
+    interrupted = False
+    while worker.is_alive():
+        try:
+            worker.join()
+        except KeyboardInterrupt:
+            interrupted = True
+            buffer.interrupt()
+    if interrupted:
+        raise KeyboardInterrupt("the run was interrupted")
+    if "error" in box:
+        raise box["error"]
+    return box["out"]
 
 
 def compiled_driver(drive, fun, jac, args, control, control_args, *records):

@@ -717,7 +717,7 @@ def run(path, fun, jac, args, method, controller, output, start, control=None, m
     t_eval = np.empty(0) if t_eval is None else t_eval
     start = (float(start[0]),) + tuple(start[1:])
     with _compile.loop_callables(path, fun, jac, args, start[1].shape[0]) as (
-            loop_fun, loop_jac, loop_args), \
+            loop_fun, loop_jac, loop_args, buffer), \
             _compile.scalar_callable(path, control, args) as (loop_control, control_args), \
             _compile.event_tracker(events) as key, \
             _compile.external_matrices(matrices) as matrices_key:
@@ -730,9 +730,10 @@ def run(path, fun, jac, args, method, controller, output, start, control=None, m
                  _explicit_drive if method.kind >= RK4 and ctrl.kind == CONSTANT else _drive)
         loop = _compile.compiled_driver(drive, loop_fun, loop_jac, loop_args, loop_control,
                                         control_args, method, ctrl, vectors, saving, start)
-        out = loop(loop_fun, loop_args, loop_jac, loop_control, control_args, method, ctrl,
-                   vectors, saving, start)
-        reason = _compile.reason(loop_args) if path == "plain" else None
+        out = _compile.interruptible(
+            lambda: loop(loop_fun, loop_args, loop_jac, loop_control, control_args, method,
+                         ctrl, vectors, saving, start), buffer)
+        reason = _compile.reason(loop_args, buffer)
     if events is not None and events.error is not None:
         raise events.error
     return out, reason

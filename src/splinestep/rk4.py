@@ -3,7 +3,7 @@ equivalent first-order system u = (y, y'), u' = (y', F(t, y, y'))."""
 
 import numpy as np
 
-from . import _base, controllers, driver
+from . import _adapters, _base, controllers, driver
 from .driver import RK4
 from .events import Tracker
 
@@ -66,6 +66,8 @@ def run_baseline(kind, fun, t_span, y0, yp0, h, t_eval, args, events, max_steps)
     if not callable(fun):
         raise ValueError("fun must be callable")
     path = _base.choose_path(fun, None, args)
+    if path == "compiled":
+        args = _adapters.passable(args)
     ypp0 = _base.check_fun(fun, t0, y0, yp0, args)
     tracker = Tracker.of(events, args, t0, y0, yp0)
     ctrl = controllers.constant(tf, h, n, np.empty(0), max_steps)

@@ -28,7 +28,7 @@ import warnings
 
 import numpy as np
 
-from . import _base, _linalg, bvp, controllers, driver
+from . import _adapters, _base, _linalg, bvp, controllers, driver
 from . import check as _check
 from .events import Tracker
 from .step import FIXED_POINT, NEWTON, YP_WEIGHT, Y_WEIGHT
@@ -419,6 +419,8 @@ def run_spline(fun, jac, args, step, ctrl, start, output, max_iter, order, contr
                                     kind == "sparse" and y0.size >= _linalg.SPARSE_FROM)
     loop_jac = None if matrices is not None else jac
     path = _base.choose_path(fun, loop_jac, args)
+    if path == "compiled":
+        args = _adapters.passable(args)
     ypp0 = _base.check_fun(fun, t0, y0, yp0, args)
     tracker = Tracker.of(events, args, t0, y0, yp0)
     store = t_eval is None or dense_output

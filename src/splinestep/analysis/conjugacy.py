@@ -26,7 +26,7 @@ References
 import numpy as np
 from numba import njit
 
-from .. import _base
+from .. import _adapters, _base
 from ..step import Y_WEIGHT, solve_linear
 
 # Newton's method for y from Y: stop when the correction is below this
@@ -60,8 +60,7 @@ def modified_force(fun, jac, h, args=()):
     if not (np.isfinite(h) and h > 0):
         raise ValueError(f"h must be positive and finite, got {h!r}")
     weight = Y_WEIGHT * h * h
-    args = _base.check_args(args)
-    _base.check_compiled_args(args)
+    args = _adapters.passable(_base.check_args(args))
 
     @njit
     def force(t, Y, P):
