@@ -412,22 +412,28 @@ _LOCK = threading.Lock()
 FIXED = (types.float64, types.float64[::1], types.float64[::1], types.int64)
 
 
-def _module(text):
-    """The adapter defined by the module source ``text``: imported from the
-    cache folder (written there first if absent), and compiled, or loaded
-    from numba's cache beside it."""
-    name = "splinestep_adapter_" + hashlib.sha256(text.encode()).hexdigest()[:24]
+def _module(name, text, function):
+    """The adapter defined by the module source ``text``, named ``name``:
+    imported from the cache folder (written there first if absent), and
+    compiled, or loaded from numba's cache beside it.  A module whose
+    function type is not ``function`` (a type whose text names two types)
+    is not used: the adapter is then compiled in this process alone."""
     folder = _writable_folder()
     path = folder / f"{name}.py"
-    if not (path.is_file() and path.read_text() == text):
+    if not path.is_file():
         handle, temporary = tempfile.mkstemp(dir=folder, suffix=".tmp")
         with os.fdopen(handle, "w") as file:
             file.write(text)
+        os.chmod(temporary, 0o644)
         os.replace(temporary, path)   # atomic: another process reads all or nothing
     spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module   # numba's cache finds the adapter's globals by its name
     spec.loader.exec_module(module)
+    if module.FUNCTION != function:   # pragma: no cover - two types of one text
+        module = type(sys)(name + "_here")
+        exec(compile(text.replace("cache=True", "cache=False"), name, "exec"),
+             module.__dict__)
     module.adapted.compile(FIXED)
     return module.adapted
 
@@ -440,8 +446,12 @@ def adapter(kind, function, kinds, stamp):
     with _LOCK:
         if key not in _ADAPTERS:
             text = source(kind, function, kinds, stamp)
+            # named by what it is made of (the pickled type's bytes vary
+            # between processes, its text does not)
+            name = "splinestep_adapter_" + hashlib.sha256(
+                repr((kind, str(function), kinds, stamp)).encode()).hexdigest()[:24]
             try:
-                _ADAPTERS[key] = _module(text)
+                _ADAPTERS[key] = _module(name, text, function)
             except NumbaError as error:
                 raise ValueError(_refusal(kind, function, error)) from error
         return _ADAPTERS[key]
@@ -465,6 +475,8 @@ def signature_of(f, arg_types, name):
     call = (types.float64, types.float64[::1], types.float64[::1], *arg_types)
     try:
         f.compile(call)
+    except RuntimeError:   # explicit signatures only: compilation disabled
+        pass
     except (NumbaError, TypeError) as error:
         raise ValueError(f"{name} cannot be compiled for (t, y, yp, *args) of types {call}: "
                          f"{str(error)[:300]}") from error

@@ -79,7 +79,9 @@ def as_vector(g):
 
 @overload(as_vector)
 def _as_vector_compiled(g):
-    if isinstance(g, (types.Float, types.Integer, types.Boolean)):
+    if isinstance(g, types.Boolean):
+        return lambda g: (1.0 if g else 0.0,)
+    if isinstance(g, (types.Float, types.Integer)):
         return lambda g: (float(g),)  # a scalar is the one component of m = 1
     if isinstance(g, types.Array) and g.ndim == 0:
         return lambda g: (float(g[()]),)

@@ -222,6 +222,8 @@ def _build_matrix(fun, args, jac, t_new, dt, s, work, lu, piv, info, it, slot):
                 yp_new[j] = work[_BASE_YP, j] + wyp * z[j]
             gk = evaluate(fun, args, t_new, y_new, yp_new)
             z[k] = saved
+            if wrong_length(gk, m):   # nothing to read past its end
+                return nfev + k + 1, njev, BAD_SHAPE
             for j in range(m):
                 lu[j, k] = -(gk[j] - work[_G, j]) / step
         nfev += m
