@@ -54,6 +54,7 @@ import pickle
 import sys
 import tempfile
 import threading
+import weakref
 from pathlib import Path
 
 import numpy as np
@@ -489,6 +490,28 @@ def signature_of(f, arg_types, name):
                      "it lazily (njit without a signature)")
 
 
+# dispatcher -> {argument types: (its compile result then, numba type,
+# address)}: a run's lookups of the user's function, repeated only when the
+# dispatcher holds another compilation (after ``recompile()``).  Weak: a
+# function is not kept alive by having been run.
+_TYPED = weakref.WeakKeyDictionary()
+
+
+def typed(f, arg_types, name):
+    """(the numba type of the compiled ``f`` called with args of numba types
+    ``arg_types`` (:func:`signature_of`), the address of its machine code
+    (:func:`jit_address`)) as the dispatcher holds them now."""
+    call = (types.float64, types.float64[::1], types.float64[::1], *arg_types)
+    known = _TYPED.setdefault(f, {}).get(arg_types)
+    current = f.overloads.get(call)
+    if known is not None and current is not None and known[0] is current:
+        return known[1], known[2]
+    function = signature_of(f, arg_types, name)
+    address = jit_address(f, function)
+    _TYPED[f][arg_types] = (f.overloads.get(call), function, address)
+    return function, address
+
+
 def jit_address(f, function):
     """The address of the machine code the dispatcher ``f`` holds now for the
     signature of ``function`` (numba's calling convention)."""
@@ -547,13 +570,13 @@ def adapted_callables(fun, jac, args, m, stamp):
     ``args`` (:func:`passable`); ``stamp`` as for :func:`source`."""
     kinds, n_slots = layout(args)
     arg_types = tuple(typeof(a) for a in args)
-    function = signature_of(fun, arg_types, "fun")
+    function, fun_address = typed(fun, arg_types, "fun")
     buffer = Buffer(m, args, n_slots)
-    buffer.slots[m + FUN_ADDRESS] = jit_address(fun, function)
+    buffer.slots[m + FUN_ADDRESS] = fun_address
     fun_adapter = adapter("fun", function, kinds, stamp)
     jac_adapter = None
     if jac is not None:
-        jac_function = signature_of(jac, arg_types, "jac")
-        buffer.slots[m + JAC_ADDRESS] = jit_address(jac, jac_function)
+        jac_function, jac_address = typed(jac, arg_types, "jac")
+        buffer.slots[m + JAC_ADDRESS] = jac_address
         jac_adapter = adapter("jac", jac_function, kinds, stamp)
     return fun_adapter, jac_adapter, (Adapted(buffer.token),), buffer

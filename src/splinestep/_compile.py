@@ -112,13 +112,16 @@ def source_stamp(path):
     in ``_base.py`` recompiles the loops that use it, and an edit of a
     module no compiled function depends on (an analysis module) recompiles
     nothing.  Computed once per process and module."""
-    path = Path(path).resolve()
+    if path in _STAMPS:   # as given, before the file system is asked
+        return _STAMPS[path]
+    given, path = path, Path(path).resolve()
     if path not in _STAMPS:
         digest = hashlib.sha256()
         for file in sorted(dependencies(path)):
             digest.update(file.relative_to(PACKAGE).as_posix().encode() + b"\0")
             digest.update(file.read_bytes())
         _STAMPS[path] = digest.hexdigest()
+    _STAMPS[given] = _STAMPS[path]
     return _STAMPS[path]
 
 
@@ -646,10 +649,42 @@ def interruptible(call, buffer):
     return box["out"]
 
 
+def _type_key(value):
+    """What decides the numba type of a setting ``value`` (an array's dtype,
+    dimensions and flags; a tuple's members; a number's kind), quicker to
+    compute than ``numba.typeof``: the key of :data:`_DRIVER_TYPES`."""
+    if isinstance(value, np.ndarray):
+        flags = value.flags
+        return (value.dtype.str, value.ndim, flags.c_contiguous, flags.f_contiguous,
+                flags.writeable, flags.aligned)
+    if isinstance(value, tuple):
+        return (type(value), tuple(_type_key(v) for v in value))
+    if isinstance(value, int) and not -2**63 <= value < 2**63:
+        return (int, value > 0)
+    return type(value)
+
+
+# (driver, the loop's fun, jac and control, key of the settings' types) ->
+# the argument types of the compiled driver: computed once per kind of run.
+_DRIVER_TYPES = {}
+
+
 def compiled_driver(drive, fun, jac, args, control, control_args, *records):
     """The driver compiled (or loaded from the disk cache) for the types of
-    ``fun``, ``args``, ``jac``, ``control`` and the settings ``records``."""
-    fun_type, args_type, jac_type = loop_types(fun, jac, args)
-    control_type = function_type(control, tuple(typeof(control_args)))
-    return compiled(drive, (fun_type, args_type, jac_type, control_type, typeof(control_args))
-                    + tuple(typeof(r) for r in records))
+    ``fun``, ``args``, ``jac``, ``control`` and the settings ``records``.
+    ``fun`` and ``jac`` are the adapters or trampolines of one signature;
+    the types are computed once per kind of run (:func:`_type_key`), not
+    per solve."""
+    key = None
+    if control is _python_scalar:   # a user's compiled control is typed each time
+        key = (drive, fun, jac, _type_key(args), _type_key(control_args),
+               tuple(_type_key(r) for r in records))
+    arg_types = _DRIVER_TYPES.get(key) if key is not None else None
+    if arg_types is None:
+        fun_type, args_type, jac_type = loop_types(fun, jac, args)
+        control_type = function_type(control, tuple(typeof(control_args)))
+        arg_types = ((fun_type, args_type, jac_type, control_type, typeof(control_args))
+                     + tuple(typeof(r) for r in records))
+        if key is not None:
+            _DRIVER_TYPES[key] = arg_types
+    return compiled(drive, arg_types)
