@@ -432,6 +432,72 @@ def reference_rows(rounds=3):
     return rows
 
 
+@njit
+def _oscillator(t, y, yp):
+    return (-y[0],)
+
+
+def small_solve_rows(repeats=300):
+    """(label, ms, ratio to RK45) of a small solve's whole cost: the
+    oscillator y'' = -y over (0, 10) in 100 steps (h = 0.1) beside scipy's
+    RK45 on the same problem at its default tolerances; the best of
+    ``repeats`` calls each, alternated, after one call to compile or load."""
+    runs = {
+        "spline, compiled fun (step-size check on)":
+            lambda: splinestep.solve(_oscillator, (0.0, 10.0), 1.0, 0.0, 0.1),
+        "spline, compiled fun, check=False":
+            lambda: splinestep.solve(_oscillator, (0.0, 10.0), 1.0, 0.0, 0.1, check=False),
+        "rk4, compiled fun": lambda: splinestep.rk4(_oscillator, (0.0, 10.0), 1.0, 0.0, 0.1),
+        "scipy RK45": lambda: solve_ivp(lambda t, u: [u[1], -u[0]], (0.0, 10.0), [1.0, 0.0]),
+    }
+    best = {label: np.inf for label in runs}
+    for run in runs.values():
+        run()
+    for _ in range(repeats):
+        for label, run in runs.items():
+            start = time.perf_counter()
+            run()
+            best[label] = min(best[label], time.perf_counter() - start)
+    rk45 = best["scipy RK45"]
+    return [(label, seconds * 1e3, seconds / rk45) for label, seconds in best.items()]
+
+
+GENERATED_FUN = """
+from numba import njit
+@njit(cache=True)
+def f(t, y, yp, c):
+    return ({body},)
+"""
+
+FIRST_GENERATED_SOLVE = """
+import time, numpy as np
+import splinestep, generated
+start = time.process_time()
+generated.f(0.0, np.ones({m}), np.zeros({m}), 0.1)   # numba's floor: f from its cache
+floor = time.process_time()
+splinestep.solve(generated.f, (0.0, 1.0), np.ones({m}), np.zeros({m}), 0.01, args=(0.1,))
+print(floor - start, time.process_time() - floor)
+"""
+
+
+def generated_fun_rows(m=40):
+    """(label, CPU seconds) of the first solve of a generated m-component
+    ``fun`` (cache=True) in a new process: numba's floor (loading ``fun``
+    from its cache) and the solve beyond it, with the adapter cache empty
+    and warm (the median of three new processes)."""
+    body = ", ".join(f"-(1.0 + {k} * 0.01) * y[{k}] - c * yp[{k}]" for k in range(m))
+    with tempfile.TemporaryDirectory() as folder:
+        Path(folder, "generated.py").write_text(GENERATED_FUN.format(body=body))
+        env = {"SPLINESTEP_CACHE_DIR": str(Path(folder, "cache"))}
+        code = FIRST_GENERATED_SOLVE.format(m=m)
+        _, cold = new_process(code, env=env, path=[folder])
+        warm = [new_process(code, env=env, path=[folder]) for _ in range(3)]
+    floor, beyond = (statistics.median(v) for v in zip(*warm))
+    return [(f"{m}-component generated fun: numba's floor (its first call, cached)", floor),
+            (f"its first solve beyond that floor, adapter cache empty", cold),
+            (f"its first solve beyond that floor, adapter cache warm", beyond)]
+
+
 def table(header, rows):
     lines = ["| " + " | ".join(header) + " |",
              "|" + "|".join("---:" if i else "---" for i in range(len(header))) + "|"]
@@ -477,7 +543,14 @@ def main(quick=False):
                      "-" if ratio is None else f"{ratio:.3f}"]
                     for label, ns, ratio in reference_rows()])
     lines.append("")
-    process = process_rows()
+    lines += ["**Small solves**: the oscillator y'' = -y over (0, 10) in 100 steps beside "
+              "scipy's RK45 (default tolerances) on the same problem; best of 300 calls each, "
+              "alternated", ""]
+    lines += table(["solve", "time", "ratio to RK45"],
+                   [[label, f"{ms:.3f} ms", f"{ratio:.2f}"]
+                    for label, ms, ratio in small_solve_rows()])
+    lines.append("")
+    process = process_rows() + generated_fun_rows()
     lines += table(["process", "seconds"], [[label, f"{s:.2f}"] for label, s in process])
     if not quick:
         commands, notebooks, test_files = command_rows()

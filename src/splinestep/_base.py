@@ -106,7 +106,7 @@ def _wrong_length_compiled(g, m):
 
 class Adapted(NamedTuple):
     """The one extra argument of a loop whose ``fun`` is an adapter
-    (:func:`splinestep._compile.loop_callables`): ``token``, the address of
+    (:mod:`splinestep._adapters`) or a trampoline: ``token``, the address of
     the run's buffer, whose first m floats receive F's value."""
     token: int
 

@@ -7,16 +7,16 @@ its cache index would pickle the type of a function from the caller's module.
 
 Here a loop receives ``fun`` (and ``jac``) as a first-class function type,
 ``FunctionType(ret(float64, float64[::1], float64[::1], *args))``, which
-names only the signature.  A loop is compiled once per combination of these
-signatures and of the argument types, and numba's on-disk cache, keyed on
-that signature, on the source file and on numba's version, serves every
-later process, whichever module or notebook defines ``fun``.  A compiled
-``fun`` whose extra arguments are numbers or float arrays, and every plain
-one, reach the loop through adapters of one signature (:func:`adapted`,
-:func:`python_callbacks`), so the loops are compiled once per machine for
-all of them, and a new right-hand side compiles only its adapter.  The call
-through a function pointer cannot be inlined; ``make bench`` measures its
-cost per evaluation.
+names only the signature.  Every right-hand side reaches the loops through
+functions of one such signature, ``(t, y, yp, token)``: a compiled one
+through its adapter (:mod:`splinestep._adapters`), which calls the user's
+own compiled code, a plain one through the trampolines into the
+interpreter (:func:`python_callbacks`).  So the loops are compiled once per
+machine for all of them, and numba's on-disk cache, keyed on that signature,
+on the source file and on numba's version, serves every later process.  The
+call through a function pointer cannot be inlined; ``make bench`` measures
+its cost per evaluation.  A run started from the main thread runs in a
+worker thread, so that Ctrl-C interrupts it (:func:`interruptible`).
 
 numba stamps a cached function with the contents of its own source file
 only, so a loop compiled with a constant from another module of the package
