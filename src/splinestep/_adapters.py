@@ -223,6 +223,10 @@ def layout(args):
     the number of slots they take), or a ValueError naming what cannot be
     passed."""
     def kind(value, where):
+        if isinstance(value, tuple) and hasattr(value, "_fields"):
+            raise ValueError(f"{where} is a namedtuple ({type(value).__name__}), which a "
+                             "compiled fun would be passed as a plain tuple: pass a tuple "
+                             "and read it by index")
         if isinstance(value, tuple):
             return ("tuple", tuple(kind(v, f"{where}[{i}]") for i, v in enumerate(value)))
         if isinstance(value, np.ndarray):
@@ -264,9 +268,8 @@ def _expressions(kinds, offset=0):
             out.append(f"carray(void_pointer(slots[{at}]), ({shape}), np.{dtype})")
             offset += 1 + ndim
         else:
-            inner, used = _expressions(kind[1], offset)
+            inner, offset = _expressions(kind[1], offset)
             out.append("(" + "".join(e + ", " for e in inner) + ")")
-            offset += used
     return out, offset
 
 
@@ -298,14 +301,15 @@ def passable(args):
     def converted(value):
         if isinstance(value, tuple):
             return tuple(converted(v) for v in value)
+        if isinstance(value, np.ndarray) and not value.dtype.isnative:
+            value = value.astype(value.dtype.newbyteorder("="))
         if isinstance(value, np.ndarray) and not (value.flags.c_contiguous
                                                   and value.flags.writeable
                                                   and value.flags.aligned):
             return np.array(value, order="C")
         return value
-    args = tuple(converted(v) for v in args)
-    layout(args)
-    return args
+    layout(args)   # the ValueError of what cannot be passed, named as given
+    return tuple(converted(v) for v in args)
 
 
 # ----------------------------------------------------------------------------

@@ -100,8 +100,8 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         ``fun(t, y, yp, *args) -> y''``, with y and yp arrays of shape (m,);
         it returns an array of shape (m,), a list or a tuple of m numbers,
         or a number when m = 1.  The stepping loop runs compiled; a
-        ``numba.njit`` ``fun`` is called from it compiled (inlined into a
-        small adapter), a plain one through the interpreter (see the manual's page "The compiled fast path"); a
+        ``numba.njit`` ``fun`` is called from it compiled (its own machine
+        code, through a small adapter), a plain one through the interpreter (see the manual's page "The compiled fast path"); a
         compiled ``fun`` that returns a tuple spares an array allocation
         per evaluation.
     t_span : (float, float)
