@@ -277,8 +277,9 @@ def test_ctrl_c_in_a_jupyter_kernel_interrupts_the_cell_and_the_kernel_survives(
                 break
             time.sleep(1.0)
         assert reply["status"] == "ok", reply
+        # stop_on_error=False: the kernel must not abort the request sent after the error
         message = client.execute("splinestep.solve(f, (0.0, 1e7), 1.0, 0.0, 0.1, "
-                                 "t_eval=[1e7], check=False)")
+                                 "t_eval=[1e7], check=False)", stop_on_error=False)
         time.sleep(2.0)
         manager.interrupt_kernel()
         reply = client.get_shell_msg(timeout=120)
