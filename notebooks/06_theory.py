@@ -249,8 +249,8 @@ at_limit = theory.oscillator_run(np.sqrt(12.0), 0.0, 1.0, 1000)
 growth_at_limit = np.abs(at_limit.y[0, [10, 100, 1000]])
 print("at omega h = sqrt(12), from (y, h y') = (0, 1):\n  |y_10|, |y_100|, |y_1000| = "
       + ", ".join(f"{g:.4g}" for g in growth_at_limit) + " (derived n/3)")
-check_fires = theory.bisect(lambda v: check.growth(np.array([[-1.0]]), np.array([[0.0]]), v,
-                                                   1 / 6, 1 / 2)[0] > 1 + check.GROWTH_MARGIN,
+check_fires = theory.bisect(lambda v: check.growth(np.array([[-1.0]]), np.array([[0.0]]),
+                                                   v)[0] > 1 + check.GROWTH_MARGIN,
                             3.0, 4.0, steps=60)
 print(f"the step-too-large check fires above omega h = {check_fires:.7f}")
 

@@ -77,6 +77,7 @@ from numba import njit
 
 from . import _base
 from ._base import FD_STEP
+from .step import SPLINE
 
 # The estimated local error, as a fraction of the run's largest |y| (or
 # |y'|), above which the step does not resolve the solution.  Accurate runs
@@ -132,31 +133,44 @@ def jacobians(fun, jac, args, t, y, yp):
     return fy, fyp, 2 * m + 1, 0
 
 
-def amplification(fy, fyp, h, y_weight, yp_weight):
-    """The matrix M with (y, y')_{n+1} = M (y, y')_n for one step of size h
-    on y'' = fy y + fyp y' (the method's eqs. 6-9 with y'' = F at every
-    knot)."""
+def amplification(fy, fyp, h, sc=SPLINE):
+    """The matrix M of one step of size h of the member ``sc`` (a
+    :class:`splinestep.members.Scheme`) on y'' = fy y + fyp y': (y,
+    y')_{n+1} = M (y, y')_n for Newmark's members, whose y'' at a knot is F
+    there (the spline's eqs. 6-9), and (y, y', a)_{n+1} = M (y, y', a)_n for
+    the alpha members, whose acceleration a_n is a state of its own."""
     m = fy.shape[0]
     eye, zero = np.eye(m), np.zeros((m, m))
-    p = np.hstack([fy, fyp])                               # y''_n = p (y, y')_n
-    base_y = np.hstack([eye, h * eye]) + (h * h / 3.0) * p
-    base_yp = np.hstack([zero, eye]) + (h / 2.0) * p
-    k = eye - y_weight * h * h * fy - yp_weight * h * fyp
-    z = np.linalg.solve(k, fy @ base_y + fyp @ base_yp)     # y''_{n+1}
-    return np.vstack([base_y + y_weight * h * h * z, base_yp + yp_weight * h * z])
+    wy, wyp = sc.beta * h * h, sc.gamma * h
+    if sc.alpha_m == 0.0 and sc.alpha_f == 0.0:
+        p = np.hstack([fy, fyp])                               # y''_n = p (y, y')_n
+        base_y = np.hstack([eye, h * eye]) + (sc.y_start * h * h) * p
+        base_yp = np.hstack([zero, eye]) + (sc.yp_start * h) * p
+        k = eye - wy * fy - wyp * fyp
+        z = np.linalg.solve(k, fy @ base_y + fyp @ base_yp)     # y''_{n+1}
+        return np.vstack([base_y + wy * z, base_yp + wyp * z])
+    af, am = sc.alpha_f, sc.alpha_m
+    base_y = np.hstack([eye, h * eye, (sc.y_start * h * h) * eye])
+    base_yp = np.hstack([zero, eye, (sc.yp_start * h) * eye])
+    own_y, own_yp, own_a = (np.hstack([eye, zero, zero]), np.hstack([zero, eye, zero]),
+                            np.hstack([zero, zero, eye]))
+    k = (1.0 - am) * eye - (1.0 - af) * (wy * fy + wyp * fyp)
+    rhs = (-am * own_a + fy @ ((1.0 - af) * base_y + af * own_y)
+           + fyp @ ((1.0 - af) * base_yp + af * own_yp))
+    a = np.linalg.solve(k, rhs)                                  # a_{n+1}
+    return np.vstack([base_y + wy * a, base_yp + wyp * a, a])
 
 
-def growth(fy, fyp, h, y_weight, yp_weight):
-    """(rho of the step's amplification matrix, rho of the exact flow over
-    h): the largest |exp(h lambda)| over the eigenvalues lambda of the
-    linearised flow, so that a backward step (h < 0) is compared with the
-    backward flow."""
+def growth(fy, fyp, h, sc=SPLINE):
+    """(rho of the member ``sc``'s amplification matrix, rho of the exact
+    flow over h): the largest |exp(h lambda)| over the eigenvalues lambda
+    of the linearised flow, so that a backward step (h < 0) is compared
+    with the backward flow."""
     m = fy.shape[0]
     flow = np.block([[np.zeros((m, m)), np.eye(m)], [fy, fyp]])
     exact = float(np.exp(np.max((h * np.linalg.eigvals(flow)).real)))
     try:
-        step = float(np.max(np.abs(np.linalg.eigvals(
-            amplification(fy, fyp, h, y_weight, yp_weight)))))
+        step = float(np.max(np.abs(np.linalg.eigvals(amplification(fy, fyp, h, sc)))))
     except np.linalg.LinAlgError:
         step = np.inf
     return step, exact
@@ -258,7 +272,7 @@ def _modes(apply_a, apply_b, m):
     return pairs or [(0.0, 0.0)]
 
 
-def krylov_growth(fun, jac, args, t, y, yp, h, weights):
+def krylov_growth(fun, jac, args, t, y, yp, h, sc):
     """(rho of the step, rho of the flow, nfev, njev) over the modes of
     :func:`_modes` at (t, y, y'): :func:`growth` of each mode's scalar
     equation y'' = a y + b y' (rho NaN when fun or jac failed, or gave
@@ -270,31 +284,31 @@ def krylov_growth(fun, jac, args, t, y, yp, h, weights):
     except Exception:
         modes = []
     for a, b in modes:
-        step, exact = growth(np.array([[a]]), np.array([[b]]), h, *weights)
+        step, exact = growth(np.array([[a]]), np.array([[b]]), h, sc)
         rho, rho_exact = max(rho, step), max(rho_exact, exact)
     if not modes:
         rho = np.nan
     return rho, rho_exact, counts[0], counts[1]
 
 
-def _linearised(fun, jac, args, t, y, yp, h, weights):
+def _linearised(fun, jac, args, t, y, yp, h, sc):
     """(rho of the step, rho of the flow, nfev, njev) at (t, y, y'): dense
     up to :data:`DENSE_UP_TO` components, by Arnoldi steps above."""
     if y.size > DENSE_UP_TO:
-        return krylov_growth(fun, jac, args, t, y, yp, h, weights)
+        return krylov_growth(fun, jac, args, t, y, yp, h, sc)
     fy, fyp, nfev, njev = jacobians(fun, jac, args, t, y, yp)
     if not (np.all(np.isfinite(fy)) and np.all(np.isfinite(fyp))):
         return np.nan, np.nan, nfev, njev
-    return (*growth(fy, fyp, h, *weights), nfev, njev)
+    return (*growth(fy, fyp, h, sc), nfev, njev)
 
 
-def report(result, run, fun, jac, args, start, weights, enabled=True):
+def report(result, run, fun, jac, args, start, member, enabled=True):
     """Attach the run's error estimate (``run``: the driver's
     :class:`splinestep.driver.Run`) to ``result``, warn (in a
     ``UserWarning`` and in ``result.message``) when the step is far too
     large for the solution, and count the evaluations the check makes in
     ``result.nfev`` and ``result.njev``.  ``start`` is (t0, y0, y'0),
-    ``weights`` the step's (Y_WEIGHT, YP_WEIGHT); ``enabled`` False
+    ``member`` the run's :class:`splinestep.members.Member`; ``enabled`` False
     attaches the estimate only (no finding, no evaluation).  The linearised
     step is taken at the step the run took there: the first, the one where
     the estimate is largest, the last."""
@@ -328,7 +342,8 @@ def report(result, run, fun, jac, args, start, weights, enabled=True):
         if not (np.all(np.isfinite(y)) and np.all(np.isfinite(yp))) or h == 0.0:
             continue
         try:
-            rho, rho_exact, nfev, njev = _linearised(fun, jac, args, t, y, yp, h, weights)
+            rho, rho_exact, nfev, njev = _linearised(fun, jac, args, t, y, yp, h,
+                                                     member.scheme())
         except Exception:  # a fun or jac that fails here: the check has nothing to say
             continue
         result.nfev += nfev
@@ -337,11 +352,22 @@ def report(result, run, fun, jac, args, start, weights, enabled=True):
             findings.append(
                 f"at the {where} state (t = {_base.short(t)}) one step of the linearised "
                 f"equation grows by {rho:.3g} where the equation grows by {rho_exact:.3g} "
-                "(the step is past the method's stability limit, omega h = sqrt(12) "
-                "for an oscillation)")
+                + _limit(member))
             break
     if findings:
         text = ("The step is too large for this solution: " + "; ".join(findings)
                 + ". Try a smaller h.")
         result.message = f"{result.message} {text}"
         warnings.warn(text, UserWarning, stacklevel=4)
+
+
+def _limit(member):
+    """The clause of a finding that names the member's stability limit."""
+    if member.is_spline:
+        return ("(the step is past the method's stability limit, omega h = sqrt(12) "
+                "for an oscillation)")
+    limit = member.stability_limit
+    where = (f"omega h = {limit:.4g} for an oscillation" if np.isfinite(limit) else
+             "unconditionally stable on an oscillation: the equation's own growth or damping "
+             "is what the step misjudges")
+    return f"(the step is past the stability of {member.name}, {where})"

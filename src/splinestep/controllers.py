@@ -79,6 +79,7 @@ import numpy as np
 from numba import njit
 
 from .status import OK, RHO_NOT_POSITIVE, STEP_TOO_SMALL, TOO_MANY_STEPS
+from .members import member
 from .step import local_errors
 
 CONSTANT, ERROR, REVERSIBLE = 0, 1, 2
@@ -87,7 +88,6 @@ SAFETY = 0.9
 MIN_FACTOR = 0.2
 MAX_FACTOR = 5.0
 FAILED_FACTOR = 0.25
-ERROR_EXPONENT = 0.5
 
 Control = namedtuple("Control", "kind tf h n span first_step max_step max_steps eps rho0")
 Control.__doc__ = """The controller's settings, one record (of numbers only)
@@ -206,17 +206,18 @@ def propose(ctrl, knots, t0, t, attempts, accepted, size, rho):
 
 
 @njit(cache=True)
-def error_norm(dt, dt_prev, jerk_new, jerk_old, y, yp, y_new, yp_new, rtol, atol, span):
+def error_norm(sc, dt, dt_prev, jerk_new, jerk_old, y, yp, y_new, yp_new, rtol, atol, span):
     """The scaled RMS norm of the estimated local errors per unit step,
-    times ``span``, of the step of size ``dt`` whose third derivative is
-    ``jerk_new``, after the interval of size ``dt_prev`` with ``jerk_old``
-    (``dt_prev`` = 0 at the start, where ``jerk_old`` is y''' at the knot
-    itself)."""
+    times ``span``, of the member ``sc``'s step of size ``dt`` whose third
+    derivative is ``jerk_new``, after the interval of size ``dt_prev`` with
+    ``jerk_old`` (``dt_prev`` = 0 at the start, where ``jerk_old`` is y'''
+    at the knot itself)."""
     m = y_new.shape[0]
     total = 0.0
     per_unit = span / abs(dt)
     for k in range(m):
-        est_y, est_yp = local_errors(jerk_new[k], jerk_old[k], dt, dt_prev)
+        est_y, est_yp = local_errors(abs(jerk_new[k]), abs(jerk_new[k] - jerk_old[k]), dt,
+                                     dt_prev, sc)
         est_y *= per_unit
         est_yp *= per_unit
         scale_y = atol[k] + rtol[k] * max(abs(y[k]), abs(y_new[k]))
@@ -226,41 +227,43 @@ def error_norm(dt, dt_prev, jerk_new, jerk_old, y, yp, y_new, yp_new, rtol, atol
 
 
 @njit(cache=True)
-def step_factor(norm, after_reject):
+def step_factor(norm, after_reject, exponent):
     """The factor for the next step after a step whose error norm is
-    ``norm``."""
+    ``norm``, for an estimate per unit step of order 1/``exponent``."""
     if norm == 0.0:
         factor = MAX_FACTOR
     else:
-        factor = min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * norm ** -ERROR_EXPONENT))
+        factor = min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * norm ** -exponent))
     if after_reject:
         factor = min(factor, 1.0)
     return factor
 
 
 @njit(cache=True)
-def judge(ctrl, vectors, status, dt, dt_prev, jerk_new, jerk, y, yp, y_new, yp_new,
-          after_reject):
-    """The error controller's verdict on a step of size ``dt`` (signed)
-    that ended with ``status``: (accept, next size).  A step whose
+def judge(ctrl, vectors, sc, status, dt, dt_prev, jerks, y, yp, y_new, yp_new, after_reject):
+    """The error controller's verdict on the member ``sc``'s step of size
+    ``dt`` (signed) that ended with ``status``: (accept, next size).
+    ``jerks`` holds the step's third derivative and that of the step before.  A step whose
     equation failed is retried FAILED_FACTOR times smaller; one whose error
     norm exceeds 1 is retried smaller; an accepted one sets the next size
     from the norm, within ``max_step``."""
     if status != OK:
         return False, abs(dt) * FAILED_FACTOR
-    norm = error_norm(dt, dt_prev, jerk_new, jerk, y, yp, y_new, yp_new, vectors.rtol,
+    norm = error_norm(sc, dt, dt_prev, jerks[0], jerks[1], y, yp, y_new, yp_new, vectors.rtol,
                       vectors.atol, ctrl.span)
-    factor = step_factor(norm, after_reject)
+    factor = step_factor(norm, after_reject, sc.exponent)
     if not norm <= 1.0:
         return False, abs(dt) * min(factor, 1.0)
     return True, min(abs(dt) * factor, ctrl.max_step)
 
 
-def jump_estimates(t, ypp):
+def jump_estimates(t, ypp, method="spline"):
     """The estimates est_y, est_y' (max over components) of every step of a
-    run after the first, from its knots ``t`` (k,) and y'' there (m, k): the
-    numbers the controller compares with the tolerance."""
+    run of the member ``method`` (:func:`splinestep.members.member`) after
+    the first, from its knots ``t`` (k,) and y'' there (m, k): the numbers
+    the controller compares with the tolerance."""
     steps = np.diff(t)
     jerk = np.diff(ypp, axis=1) / steps
-    est_y, est_yp = local_errors(jerk[:, 1:], jerk[:, :-1], steps[1:], steps[:-1])
+    est_y, est_yp = local_errors(np.abs(jerk[:, 1:]), np.abs(jerk[:, 1:] - jerk[:, :-1]),
+                                 steps[1:], steps[:-1], member(method).scheme())
     return np.max(est_y, axis=0), np.max(est_yp, axis=0)

@@ -72,22 +72,26 @@ from ._explicit import rk4_step, verlet_step
 from .controllers import CONSTANT, ERROR, REVERSIBLE, first_size, judge, propose
 from .result import HermiteSolution, SplineSolution, new_result, quintic_coefficients
 from .status import BAD_SHAPE, EVENT_FAILED, OK, OUT_OF_MEMORY, TERMINAL_EVENT, message
-from .step import (FIXED_POINT, Iteration, Method, State, _value_status, composed_step,
-                   local_errors, newton_call, step_state, sweep_step)
+from .members import CUBIC, HERMITE, QUINTIC
+from .step import (FIXED_POINT, SPLINE as SPLINE_SCHEME, Iteration, Method, State,
+                   _value_status, composed_step, local_errors, newton_call, step_state,
+                   sweep_step)
 
-# The methods (steps) the driver takes.
+# The methods (steps) the driver takes: one step of a member of Newmark's
+# family (the spline's by default), a composition of them, the baselines.
 SPLINE, COMPOSED, RK4, VERLET = 0, 1, 2, 3
-# The interpolant of a step, for t_eval and events: the spline's cubic, the
-# quintic Hermite through both knots' (y, y', y'') (a composition's, of its
-# order), and the cubic Hermite of (y, y') and of (y', y'') (the baselines').
-CUBIC, QUINTIC, HERMITE = 0, 1, 2
+# The interpolant of a step, for t_eval and events (splinestep.members):
+# the spline's cubic, the quintic Hermite through both knots' (y, y', y'')
+# (a composition's, of its order), and the cubic Hermite of (y, y') and of
+# (y', y'') (the baselines' and the other members').
 
 
 @njit(cache=True)
-def dense_kind(kind):
-    """The interpolant of the steps of method ``kind``."""
+def dense_kind(kind, scheme):
+    """The interpolant of the steps of method ``kind`` taking the member
+    ``scheme`` (a :class:`splinestep.members.Scheme`)."""
     if kind == SPLINE:
-        return CUBIC
+        return scheme.interpolant
     return QUINTIC if kind == COMPOSED else HERMITE
 
 Saving = namedtuple("Saving", "t_eval store events max_knots")
@@ -259,7 +263,7 @@ def _fill_eval(t_eval, n_eval, t, t_end, dt, kind, vec, E, direction):
 
 
 @njit(cache=True, inline="always")
-def _estimate(acc, y_new, yp_new, z, ypp, jerk1, jerk0, dt, dt_prev, t, have_jump):
+def _estimate(acc, y_new, yp_new, z, ypp, jerk1, jerk0, dt, dt_prev, t, have_jump, sc):
     """After the accepted spline step of size ``dt`` from the knot ``t`` to
     (``y_new``, ``yp_new``, ``z``), from y'' = ``ypp``: its third derivative
     into ``jerk1`` (``jerk0`` on the step before; one pass over the
@@ -276,16 +280,19 @@ def _estimate(acc, y_new, yp_new, z, ypp, jerk1, jerk0, dt, dt_prev, t, have_jum
         e_first = dt
     # The last step, or the one before when the last was cut short at tf.
     e_last = dt if not have_jump or abs(dt) >= abs(dt_prev) else dt_prev
-    jump = 0.0
+    jump, y3 = 0.0, 0.0
     for k in range(y_new.shape[0]):
         jerk1[k] = (z[k] - ypp[k]) / dt
         y_scale = max(y_scale, abs(y_new[k]))
         yp_scale = max(yp_scale, abs(yp_new[k]))
         jump = max(jump, abs(jerk1[k] - jerk0[k]))
+        y3 = max(y3, abs(jerk1[k]))
     if have_jump:
-        # The estimates grow with the jump, rounding included: those of the
-        # largest jump are the largest of the components' estimates.
-        ey, eyp = local_errors(jump, 0.0, dt, dt_prev)
+        # The estimates grow with the jump and the third derivative,
+        # rounding included: those of the largest of each bound the
+        # components' estimates (the largest of them for the spline, whose
+        # estimates follow the jump alone).
+        ey, eyp = local_errors(y3, jump, dt, dt_prev, sc)
         if ey > e_y:
             e_y, e_t, e_dt = ey, t, dt
         e_yp = max(e_yp, eyp)
@@ -382,13 +389,13 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
     The hot path (the sweep) keeps its vectors in one buffer and its
     settings in records of numbers: every array passed into the loop's
     helpers costs reference counting at every step."""
-    # The step and the controller are chosen here, at run time: one compiled
-    # loop serves every method and controller for a given type of fun.
+    # The step and the controller are chosen here, at run time: one compiled loop serves
+    # every method, member and controller for a given type of fun.
     step_kind, control_kind, spline_steps = method.kind, ctrl.kind, method.kind <= COMPOSED
     sweep = step_kind == SPLINE and method.iteration.mode == FIXED_POINT
-    t0, y0, yp0, ypp0 = start
-    knots, atol, rtol = vectors.knots, vectors.atol, vectors.rtol
-    m, it, kind, t_eval = y0.shape[0], method.iteration, dense_kind(method.kind), saving.t_eval
+    (t0, y0, yp0, ypp0), (knots, atol, rtol) = start, vectors
+    m, it, t_eval = y0.shape[0], method.iteration, saving.t_eval
+    kind = dense_kind(method.kind, it.scheme)
     vec, T, K, RHO, E, acc = _start(ctrl, saving, t0, y0, yp0, ypp0)
     y, yp, ypp, y_new, yp_new, z = vec[_Y], vec[_YP], vec[_YPP], vec[_Y1], vec[_YP1], vec[_Z]
     kept = step_state(m, max(np.max(method.slots), np.max(method.inside_slots)) + 1,
@@ -446,8 +453,8 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
                 for k in range(m):
                     jerk1[k] = (z[k] - ypp[k]) / dt
             if control_kind == ERROR:
-                keep, size = judge(ctrl, vectors, status, dt, dt_prev, jerk1, jerk0, y, yp,
-                                   y_new, yp_new, after_reject)
+                keep, size = judge(ctrl, vectors, it.scheme, status, dt, dt_prev,
+                                   (jerk1, jerk0), y, yp, y_new, yp_new, after_reject)
                 after_reject = not keep
                 if not keep:
                     n_rejected += int(status == OK)
@@ -460,7 +467,7 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
             if spline_steps:
                 largest = acc[_E_Y]
                 acc = _estimate(acc, y_new, yp_new, z, ypp, jerk1, jerk0, dt, dt_prev, t,
-                                accepted > 0)
+                                accepted > 0, it.scheme)
                 if acc[_E_Y] > largest:   # the state where the error of y is largest
                     vec[_Y_ERR], vec[_YP_ERR] = y, yp
             stop, t_end = 0, t_new
@@ -504,7 +511,8 @@ def _explicit_drive(fun, args, jac, control, control_args, method, ctrl, vectors
     step_kind, control_kind = method.kind, ctrl.kind
     t0, y0, yp0, ypp0 = start
     knots, atol, rtol = vectors.knots, vectors.atol, vectors.rtol
-    m, kind, t_eval = y0.shape[0], dense_kind(method.kind), saving.t_eval
+    m, t_eval = y0.shape[0], saving.t_eval
+    kind = dense_kind(method.kind, method.iteration.scheme)
     vec, T, K, RHO, E, acc = _start(ctrl, saving, t0, y0, yp0, ypp0)
     y, yp, ypp, y_new, yp_new, z = vec[_Y], vec[_YP], vec[_YPP], vec[_Y1], vec[_YP1], vec[_Z]
     stage, ev_out = np.empty((4, m)), np.empty((3, m))
@@ -600,7 +608,8 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
     control_kind = ctrl.kind
     t0, y0, yp0, ypp0 = start
     knots, atol, rtol = vectors.knots, vectors.atol, vectors.rtol
-    m, it, kind, t_eval = y0.shape[0], method.iteration, dense_kind(method.kind), saving.t_eval
+    m, it, t_eval = y0.shape[0], method.iteration, saving.t_eval
+    kind = dense_kind(method.kind, it.scheme)
     vec, T, K, RHO, E, acc = _start(ctrl, saving, t0, y0, yp0, ypp0)
     kept = step_state(m, 1, False)
     ev_out = np.empty((3, m))
@@ -639,8 +648,8 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
             if control_kind == ERROR:
                 for k in range(m):   # what judge reads (_estimate writes it too)
                     jerk1[k] = (z[k] - ypp[k]) / dt
-                keep, size = judge(ctrl, vectors, status, dt, dt_prev, jerk1, jerk0, y, yp,
-                                   y_new, yp_new, after_reject)
+                keep, size = judge(ctrl, vectors, it.scheme, status, dt, dt_prev,
+                                   (jerk1, jerk0), y, yp, y_new, yp_new, after_reject)
                 after_reject = not keep
                 if not keep:
                     n_rejected += int(status == OK)
@@ -652,7 +661,7 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
                 break
             largest = acc[_E_Y]
             acc = _estimate(acc, y_new, yp_new, z, ypp, jerk1, jerk0, dt, dt_prev, t,
-                                accepted > 0)
+                            accepted > 0, it.scheme)
             if acc[_E_Y] > largest:   # the state where the error of y is largest
                 vec[_Y_ERR], vec[_YP_ERR] = y, yp
             stop, t_end = 0, t_new
@@ -694,11 +703,12 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
 
 
 def method(kind, mode=FIXED_POINT, n_iter=1, until_converged=True, tol=1e-12, reuse=True,
-           weights=(1.0,), slots=(0,), inside=(1.0,), inside_slots=(0,)):
+           weights=(1.0,), slots=(0,), inside=(1.0,), inside_slots=(0,), scheme=SPLINE_SCHEME):
     """The :class:`splinestep.step.Method` record of a step (its Newton
-    matrices built by the loop: see :func:`run`)."""
+    matrices built by the loop: see :func:`run`) of the member ``scheme``
+    (a :class:`splinestep.members.Scheme`; the spline's by default)."""
     return Method(int(kind), Iteration(int(mode), int(n_iter), bool(until_converged), float(tol),
-                                       bool(reuse), -1.0, False),
+                                       bool(reuse), -1.0, False, scheme),
                   np.asarray(weights, dtype=float), np.asarray(slots, dtype=np.int64),
                   np.asarray(inside, dtype=float), np.asarray(inside_slots, dtype=np.int64))
 
@@ -740,12 +750,14 @@ def run(path, fun, jac, args, method, controller, output, start, control=None, m
 
 
 def result_of(out, t_eval, max_iter, ctrl, reason=None, *, path, order=2, method="spline",
-              njev=0, dense_output=False, iteration=None):
+              njev=0, dense_output=False, iteration=None, interpolant=None):
     """The one result builder of driver runs: the :class:`OdeResult` of the
     :class:`Run` ``out`` (knots, or values at ``t_eval``), with its message
     from :func:`splinestep.status.message`.  ``njev`` adds the front door's
     own calls of jac; the start's evaluation of fun is counted here;
-    ``iteration`` is the spline steps' mode (FIXED_POINT or NEWTON)."""
+    ``iteration`` is the spline steps' mode (FIXED_POINT or NEWTON),
+    ``interpolant`` the member's (:mod:`splinestep.members`), which sets
+    the class of ``sol`` (by ``order`` when None)."""
     n, m = out.n_knots, out.K.shape[2]
     if t_eval is None:
         t, (y, yp, ypp) = out.T[:n], (out.K[:n, j] for j in range(3))
@@ -763,5 +775,6 @@ def result_of(out, t_eval, max_iter, ctrl, reason=None, *, path, order=2, method
                         sweep=iteration == FIXED_POINT))
     if dense_output and n >= 2:
         knots = (out.T[:n], *(out.K[:n, j] for j in range(3)))
-        result.sol = (HermiteSolution if order > 2 else SplineSolution)(*knots)
+        quintic = order > 2 if interpolant is None else interpolant != CUBIC
+        result.sol = (HermiteSolution if quintic else SplineSolution)(*knots)
     return result

@@ -31,7 +31,8 @@ import numpy as np
 from . import _adapters, _base, _linalg, bvp, controllers, driver
 from . import check as _check
 from .events import Tracker
-from .step import FIXED_POINT, NEWTON, YP_WEIGHT, Y_WEIGHT
+from .members import member as _member
+from .step import FIXED_POINT, NEWTON
 
 ITERATIONS = ("fixed-point", "newton", "global")
 
@@ -147,6 +148,21 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     **options
         The keywords below, as scipy's ``solve_ivp`` passes its solver's
         options; any other is a ValueError naming it.
+    method : str, (float, float) or Member
+        The member of Newmark's family that takes each step
+        (:mod:`splinestep.members`): "spline" (the report's method, Newmark's
+        linear acceleration, beta = 1/6, gamma = 1/2; the default),
+        "average-acceleration" (1/4, 1/2), "fox-goodwin" (1/12, 1/2),
+        "central-difference" (0, 1/2), "hht" (Hilber-Hughes-Taylor, alpha =
+        0.1), "generalized-alpha" (Chung-Hulbert, rho_inf = 0.8), a pair
+        (beta, gamma), or a record of :func:`splinestep.members.newmark`,
+        :func:`~splinestep.members.hht` or
+        :func:`~splinestep.members.generalized_alpha`.  Every member runs
+        on every path below but ``iteration="global"`` (the spline's only);
+        ``order`` 4 and 6 compose the symmetric members (gamma = 1/2, no
+        alpha).  The members other than the spline interpolate between
+        knots by the cubic Hermite of (y, y') and (y', y''); the alpha
+        members' y'' at a knot is their own acceleration a_n, not F there.
     iteration : {"fixed-point", "newton", "global"}
         How the step equation is solved.  "fixed-point" is the report's
         scheme; it converges when h^2/6 |dF/dy| + h/2 |dF/dy'| < 1.
@@ -314,8 +330,9 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         h, n, knots = _base.check_grid(t0, tf, h, knots, opts["max_steps"])
     t_eval = _base.check_t_eval(t_eval, t0, tf)
     args = _base.check_args(args)
-    _check_choices(opts, order, adaptive, events)
-    step, jac = _step(fun, opts, order)
+    member = _member(opts["method"])
+    _check_choices(opts, order, adaptive, events, member)
+    step, jac = _step(fun, opts, order, member)
     if opts["iteration"] == "global":
         return _solve_global(fun, t0, tf, y0, yp0, h, n, knots, t_eval, args, opts,
                              dense_output)
@@ -336,10 +353,10 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     weights, slots, inside, inside_slots = composition(order)
     step = step._replace(weights=weights, slots=slots, inside=inside, inside_slots=inside_slots)
     return run_spline(fun, jac, args, step, ctrl, (t0, y0, yp0), (t_eval, events, dense_output),
-                      opts["max_iter"], order, check=opts["check"])
+                      opts["max_iter"], order, check=opts["check"], member=member)
 
 
-_OPTIONS = dict(iteration="fixed-point", iterations=None, tol=1e-12, max_iter=50, jac=None,
+_OPTIONS = dict(method="spline", iteration="fixed-point", iterations=None, tol=1e-12, max_iter=50, jac=None,
                 rtol=1e-3, atol=1e-6, first_step=None, max_step=np.inf,
                 max_steps=_base.MAX_STEPS, reuse_jacobian=True, check=True)
 
@@ -353,9 +370,15 @@ def _options(options):
     return opts
 
 
-def _check_choices(opts, order, adaptive, events):
+def _check_choices(opts, order, adaptive, events, member):
     """The ValueErrors of the choices that exclude each other."""
     iteration = opts["iteration"]
+    if order != 2 and not member.symmetric:
+        raise ValueError(f"order={order} composes symmetric steps only (gamma = 1/2, no "
+                         f"alpha); method {member.describe()} is not")
+    if iteration == "global" and not member.is_spline:
+        raise ValueError('iteration="global" solves the spline\'s relations only; method '
+                         f"{member.name!r} takes iteration=\"fixed-point\" or \"newton\"")
     if iteration not in ITERATIONS:
         raise ValueError(f"iteration must be one of {ITERATIONS}, got {iteration!r}")
     if not _base.is_integer(order) or order not in COMPOSITIONS:
@@ -373,9 +396,10 @@ def _check_choices(opts, order, adaptive, events):
                          "iterations")
 
 
-def _step(fun, opts, order):
-    """The step's :class:`splinestep.driver.Method` (weights to be set) and
-    the ``jac`` it uses, from the validated options."""
+def _step(fun, opts, order, member):
+    """The step's :class:`splinestep.driver.Method` (weights to be set) of
+    the :class:`splinestep.members.Member` ``member`` and the ``jac`` it
+    uses, from the validated options."""
     tol, max_iter, iterations, jac = (opts["tol"], opts["max_iter"], opts["iterations"],
                                       opts["jac"])
     if not (_base.is_real(tol) and np.isfinite(tol) and tol > 0):
@@ -395,11 +419,12 @@ def _step(fun, opts, order):
     until_converged = iterations is None
     kind = driver.SPLINE if order == 2 else driver.COMPOSED
     return driver.method(kind, mode, max_iter if until_converged else iterations,
-                         until_converged, tol, opts["reuse_jacobian"]), jac
+                         until_converged, tol, opts["reuse_jacobian"],
+                         scheme=member.scheme()), jac
 
 
 def run_spline(fun, jac, args, step, ctrl, start, output, max_iter, order, control=None,
-               check=True):
+               check=True, member=None):
     """The spline stepper on the driver, with every check: the front door
     of :func:`solve` and :func:`splinestep.solve_reversible` once their
     arguments are valid and their step and controller chosen.  ``start`` is
@@ -409,7 +434,10 @@ def run_spline(fun, jac, args, step, ctrl, start, output, max_iter, order, contr
     A ``jac`` given as constant matrices, or returning scipy.sparse ones,
     has its Newton matrices built in Python (:class:`splinestep._linalg.Matrices`):
     factorised by SuperLU from :data:`splinestep._linalg.SPARSE_FROM`
-    components, else densified for the compiled LU."""
+    components, else densified for the compiled LU.  ``member`` is the
+    :class:`splinestep.members.Member` the step takes (the spline's when
+    None)."""
+    member = _member("spline") if member is None else member
     t0, y0, yp0 = start
     t_eval, events, dense_output = output
     kind = None if jac is None else _base.check_jac(jac, t0, y0, yp0, args)
@@ -428,15 +456,17 @@ def run_spline(fun, jac, args, step, ctrl, start, output, max_iter, order, contr
                              (t0, y0, yp0, ypp0), control, matrices)
     if matrices is not None and matrices.reason is not None and reason is None:
         reason = matrices.reason
-    result = driver.result_of(out, t_eval, max_iter, ctrl[0], reason, path=path, order=order,
-                              njev=int(callable(jac)), dense_output=dense_output,
-                              iteration=step.iteration.mode)
+    result = driver.result_of(out, t_eval, max_iter, ctrl[0], reason, path=path,
+                              order=min(order, member.order) if order == 2 else order,
+                              method=member.name, njev=int(callable(jac)),
+                              dense_output=dense_output, iteration=step.iteration.mode,
+                              interpolant=member.interpolant if order == 2 else None)
     if tracker is not None:
         tracker.attach(result)
     # For a composition the jumps measure the local error of a spline step of
     # size h, which overstates the composition's: the check still sees a step
     # far too large for the solution, and no reasonable one.
-    _check.report(result, out, fun, jac, args, (t0, y0, yp0), (Y_WEIGHT, YP_WEIGHT), check)
+    _check.report(result, out, fun, jac, args, (t0, y0, yp0), member, check)
     return result
 
 

@@ -40,20 +40,17 @@ from numba.extending import register_jitable
 
 from ._base import FD_STEP, evaluate, jacobian, wrong_length
 from ._compile import external_matrix, external_solve
+from .members import MEMBERS
 from .status import BAD_SHAPE, DIVERGED, NON_FINITE, NOT_CONVERGED, OK, SINGULAR
 
-# The coefficients of the unknown z in the step, as multiples of dt^2 and dt,
-# and those of y'' at the start.
-Y_WEIGHT = 1.0 / 6.0   # d y_new / d z = dt^2 / 6
-YP_WEIGHT = 0.5        # d y'_new / d z = dt / 2
-Y_START = 1.0 / 3.0    # y_new holds dt^2 y'' / 3
-YP_START = 0.5         # y'_new holds dt y'' / 2
-
-# Leading local errors of one step from exact values when y'''' is
-# constant: the step misses h^4 y''''/24 in y and h^3 y''''/12 in y'
-# (Taylor expansion of the step, derived in splinestep.analysis.theory).
-ERR_Y = 1.0 / 24.0
-ERR_YP = 1.0 / 12.0
+# The report's member, whose numbers the drivers that solve all knots at
+# once (splinestep.bvp) and the analysis read: the coefficients of the
+# unknown z in the step, as multiples of dt^2 and dt (beta, gamma), and
+# those of y'' at the start (1/2 - beta, 1 - gamma).  Every step of the
+# drivers reads its member's own (a splinestep.members.Scheme).
+SPLINE = MEMBERS["spline"].scheme()
+Y_WEIGHT, YP_WEIGHT, Y_START, YP_START = (SPLINE.beta, SPLINE.gamma, SPLINE.y_start,
+                                          SPLINE.yp_start)
 
 FIXED_POINT, NEWTON = 0, 1
 # The rounding level of the step equation.  Below some tol the change of an
@@ -131,7 +128,7 @@ def solve_linear(a, b):
 
 
 # Rows of the work array a step uses (allocated once per run, not per step).
-_BASE_Y, _BASE_YP, _G, _RESIDUAL = range(4)
+_BASE_Y, _BASE_YP, _G, _RESIDUAL, _OWN_Y, _OWN_YP = range(6)
 
 State = namedtuple("State", "y yp ypp y_new yp_new z")
 State.__doc__ = """The vectors a step reads and writes: (y, y', y'') at the
@@ -139,15 +136,18 @@ start, and y, y' and z = y'' at the end (all of shape (m,))."""
 
 Kept = namedtuple("Kept", "work lu piv info")
 Kept.__doc__ = """What a driver allocates once for its steps
-(:func:`step_state`): a work array (4, m) and the kept Newton matrices, one
+(:func:`step_state`): a work array (6, m) and the kept Newton matrices, one
 per distinct sub-step of a composition: LU factors (slots, m, m), pivots
 (slots, m) and, per slot, [built?, the step it was built for, the sweep's
 contraction bound h^2/6 |dF/dy| + h/2 |dF/dy'| (max norm) read from it].  The LU
 factors are (slots, 0, 0) where no dense matrix is factorised (the sweep,
 the baselines), so that those paths need O(m) memory."""
 
-Iteration = namedtuple("Iteration", "mode n_iter until_converged tol reuse matrices sparse")
-Iteration.__doc__ = """How the step equation is solved: ``mode`` FIXED_POINT
+Iteration = namedtuple("Iteration", "mode n_iter until_converged tol reuse matrices sparse "
+                                   "scheme")
+Iteration.__doc__ = """The step equation and how it is solved: ``scheme``
+the member of Newmark's family whose equation it is (a
+:class:`splinestep.members.Scheme`, numbers only); ``mode`` FIXED_POINT
 or NEWTON; ``n_iter`` iterations at most, exactly when not
 ``until_converged``; converged when the change of the increments dt^2/6
 |dz| and dt/2 |dz| is at most ``tol`` times the size of the state (max
@@ -173,26 +173,32 @@ def step_state(m, slots, dense):
     """The :class:`Kept` buffers of a run of m components; the (m, m) LU
     factors only when ``dense`` (Newton with a dense matrix)."""
     n = m if dense else 0
-    return Kept(np.empty((4, m)), np.zeros((slots, n, n)), np.zeros((slots, m), dtype=np.int64),
+    return Kept(np.empty((6, m)), np.zeros((slots, n, n)), np.zeros((slots, m), dtype=np.int64),
                 np.zeros((slots, 3)))
 
 
 @njit(cache=True, error_model="numpy")
-def _build_matrix(fun, args, jac, t_new, dt, s, work, lu, piv, info, it, slot):
-    """I - dF/dz at the current z, factorised into ``lu`` (one slot's); the
-    value of F there is in ``work``'s row _G.  Returns (nfev, njev, status)
-    spent (finite differences: m evaluations).  With ``it.matrices`` the
-    Python :class:`splinestep._linalg.Matrices` builds it: factorised there
-    (``it.sparse``) or written into ``lu`` and factorised here."""
+def _build_matrix(fun, args, jac, at, s, work, lu, piv, info, it, slot):
+    """I - dG/dz at the current z, factorised into ``lu`` (one slot's), where
+    G(z) = (F - alpha_m y'') / (1 - alpha_m) is the member's update of z (F
+    itself for Newmark's members) and its value at z is in ``work``'s row
+    _G.  ``at`` is (the time where F is evaluated, dt, the weights of z in
+    the state where F is evaluated, alpha_m): :func:`_at`.  Returns (nfev,
+    njev, status) spent (finite differences: m evaluations).  With
+    ``it.matrices`` the Python :class:`splinestep._linalg.Matrices` builds
+    it: factorised there (``it.sparse``) or written into ``lu`` and
+    factorised here."""
     m = s.z.shape[0]
-    wy = Y_WEIGHT * dt * dt
-    wyp = YP_WEIGHT * dt
-    z, y_new, yp_new = s.z, s.y_new, s.yp_new
+    t_ev, dt, wy_e, wyp_e, am = at
+    scale = 1.0 - am
+    wy = wy_e / scale
+    wyp = wyp_e / scale
+    z, y_new, yp_new, ypp = s.z, s.y_new, s.yp_new, s.ypp
     nfev = 0
     njev = 0
     finite_differences = True
     if it.matrices >= 0.0:
-        code, njev, bound = external_matrix(it.matrices, slot, t_new, y_new, yp_new, wy, wyp,
+        code, njev, bound = external_matrix(it.matrices, slot, t_ev, y_new, yp_new, wy, wyp,
                                             lu)
         info[0], info[1], info[2] = 1.0, dt, bound
         if code != OK or it.sparse:
@@ -200,9 +206,9 @@ def _build_matrix(fun, args, jac, t_new, dt, s, work, lu, piv, info, it, slot):
         finite_differences = False
     elif jac is not None:
         for j in range(m):
-            y_new[j] = work[_BASE_Y, j] + wy * z[j]
-            yp_new[j] = work[_BASE_YP, j] + wyp * z[j]
-        fy, fyp = jacobian(jac, args, t_new, y_new, yp_new)
+            y_new[j] = work[_BASE_Y, j] + wy_e * z[j]
+            yp_new[j] = work[_BASE_YP, j] + wyp_e * z[j]
+        fy, fyp = jacobian(jac, args, t_ev, y_new, yp_new)
         fy = np.asarray(fy)
         fyp = np.asarray(fyp)
         # two empty matrices: the stand-in for a missing jac (_compile.no_jacobian)
@@ -218,14 +224,14 @@ def _build_matrix(fun, args, jac, t_new, dt, s, work, lu, piv, info, it, slot):
             saved = z[k]
             z[k] = saved + step
             for j in range(m):
-                y_new[j] = work[_BASE_Y, j] + wy * z[j]
-                yp_new[j] = work[_BASE_YP, j] + wyp * z[j]
-            gk = evaluate(fun, args, t_new, y_new, yp_new)
+                y_new[j] = work[_BASE_Y, j] + wy_e * z[j]
+                yp_new[j] = work[_BASE_YP, j] + wyp_e * z[j]
+            gk = evaluate(fun, args, t_ev, y_new, yp_new)
             z[k] = saved
             if wrong_length(gk, m):   # nothing to read past its end
                 return nfev + k + 1, njev, BAD_SHAPE
             for j in range(m):
-                lu[j, k] = -(gk[j] - work[_G, j]) / step
+                lu[j, k] = -((gk[j] - am * ypp[j]) / scale - work[_G, j]) / step
         nfev += m
     bound = 0.0
     for j in range(m):
@@ -243,19 +249,41 @@ def _build_matrix(fun, args, jac, t_new, dt, s, work, lu, piv, info, it, slot):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _start(dt, y, yp, ypp, z, work):
-    """The parts of y_new and y'_new that do not depend on z, into ``work``,
-    and the report's initial guess z = y'' (its d_i = 0)."""
+def _at(sc, t_new, dt):
+    """(the time where F is evaluated, dt, the weights of z in the state
+    where F is evaluated, alpha_m) of the member ``sc``'s step to t_new:
+    t_new - alpha_f dt, and (1 - alpha_f) beta dt^2, (1 - alpha_f) gamma dt
+    (for Newmark's members t_new, beta dt^2 and gamma dt exactly)."""
+    ef = 1.0 - sc.alpha_f
+    return t_new - sc.alpha_f * dt, dt, ef * (sc.beta * dt * dt), ef * (sc.gamma * dt), sc.alpha_m
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _start(dt, y, yp, ypp, z, work, sc):
+    """The parts of y_new and y'_new that do not depend on z, into ``work``
+    (for a member with alpha_f > 0 those of the state where F is evaluated,
+    (1 - alpha_f) y_new + alpha_f y, with y_new's own in rows _OWN_Y and
+    _OWN_YP), and the report's initial guess z = y'' (its d_i = 0)."""
+    cy = sc.y_start * dt * dt
+    cyp = sc.yp_start * dt
     for k in range(y.shape[0]):
-        work[_BASE_Y, k] = y[k] + dt * yp[k] + (Y_START * dt * dt) * ypp[k]
-        work[_BASE_YP, k] = yp[k] + (YP_START * dt) * ypp[k]
+        work[_BASE_Y, k] = y[k] + dt * yp[k] + cy * ypp[k]
+        work[_BASE_YP, k] = yp[k] + cyp * ypp[k]
         z[k] = ypp[k]
+    af = sc.alpha_f
+    if af != 0.0:
+        for k in range(y.shape[0]):
+            work[_OWN_Y, k] = work[_BASE_Y, k]
+            work[_OWN_YP, k] = work[_BASE_YP, k]
+            work[_BASE_Y, k] = (1.0 - af) * work[_OWN_Y, k] + af * y[k]
+            work[_BASE_YP, k] = (1.0 - af) * work[_OWN_YP, k] + af * yp[k]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _trial(wy, wyp, z, y_new, yp_new, work):
-    """y_new and y'_new for the iterate z; returns the size of the state
-    (max norm), infinite when an iterate overflowed."""
+    """y_new and y'_new for the iterate z (for a member with alpha_f > 0,
+    the state where F is evaluated); returns the size of the state (max
+    norm), infinite when an iterate overflowed."""
     size = 0.0
     for k in range(z.shape[0]):
         y_new[k] = work[_BASE_Y, k] + wy * z[k]
@@ -277,28 +305,30 @@ def _value_status(g, m):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _finish(dt, z, y_new, yp_new, work):
+def _finish(dt, z, y_new, yp_new, work, sc):
     """y_new and y'_new from the final z; OK, or NON_FINITE if either
     overflowed."""
-    wy = Y_WEIGHT * dt * dt
-    wyp = YP_WEIGHT * dt
+    wy = sc.beta * dt * dt
+    wyp = sc.gamma * dt
+    row_y, row_yp = (_OWN_Y, _OWN_YP) if sc.alpha_f != 0.0 else (_BASE_Y, _BASE_YP)
     status = OK
     for k in range(z.shape[0]):
-        y_new[k] = work[_BASE_Y, k] + wy * z[k]
-        yp_new[k] = work[_BASE_YP, k] + wyp * z[k]
+        y_new[k] = work[row_y, k] + wy * z[k]
+        yp_new[k] = work[row_yp, k] + wyp * z[k]
         if not (abs(y_new[k]) < np.inf and abs(yp_new[k]) < np.inf):
             status = NON_FINITE
     return status
 
 
 @njit(cache=True, error_model="numpy")
-def rounding_level(fun, args, t_new, z, y_new, yp_new):
-    """The rounding level of F at (t_new, y_new, y'_new), where F = z: the
-    largest change of F when each component of the state moves by eps of
-    itself (signs alternating pseudo-randomly, as rounding errors do), and
-    not below eps |z|.  One evaluation; y_new and y'_new are left perturbed
-    (the iteration recomputes them from z).  0 when F's value there is not
-    usable (no iterate is then accepted at the rounding level)."""
+def rounding_level(fun, args, t_ev, z, y_new, yp_new, ypp, am):
+    """The rounding level of the update G = (F - am y'') / (1 - am) at
+    (t_ev, y_new, y'_new), where G = z: the largest change of G when each
+    component of the state moves by eps of itself (signs alternating
+    pseudo-randomly, as rounding errors do), and not below eps |z|.  One
+    evaluation; y_new and y'_new are left perturbed (the iteration
+    recomputes them from z).  0 when F's value there is not usable (no
+    iterate is then accepted at the rounding level)."""
     m = z.shape[0]
     scale = 0.0
     for k in range(m):
@@ -306,12 +336,12 @@ def rounding_level(fun, args, t_new, z, y_new, yp_new):
         y_new[k] += sign * EPS * abs(y_new[k])
         yp_new[k] += sign * EPS * abs(yp_new[k])
         scale = max(scale, abs(z[k]))
-    g = evaluate(fun, args, t_new, y_new, yp_new)
+    g = evaluate(fun, args, t_ev, y_new, yp_new)
     if _value_status(g, m) != OK:
         return 0.0
     level = EPS * scale
     for k in range(m):
-        level = max(level, abs(g[k] - z[k]))
+        level = max(level, abs((g[k] - am * ypp[k]) / (1.0 - am) - z[k]))
     return level
 
 
@@ -347,34 +377,43 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
     of arrays costs reference counting at every step).  The change of z is
     computed only when it is tested."""
     m = y.shape[0]
-    wy = Y_WEIGHT * dt * dt
-    wyp = YP_WEIGHT * dt
-    w_max = max(wy, abs(wyp))
+    sc = it.scheme
+    t_ev, _, wy_e, wyp_e, am = _at(sc, t_new, dt)
+    w_max = max(sc.beta * dt * dt, abs(sc.gamma * dt))
     until_converged = it.until_converged
-    _start(dt, y, yp, ypp, z, work)
+    _start(dt, y, yp, ypp, z, work, sc)
     status = NOT_CONVERGED if until_converged else OK
     nfev = 0
     niter = 0
     first, last, probes = 0.0, np.inf, 0
     for _ in range(it.n_iter):
-        size = _trial(wy, wyp, z, y_new, yp_new, work)
+        size = _trial(wy_e, wyp_e, z, y_new, yp_new, work)
         if not size < np.inf:
             # A diverging sweep overflows; an infinite size would pass the
             # relative convergence test below.
             status = DIVERGED
             break
-        g = evaluate(fun, args, t_new, y_new, yp_new)
+        g = evaluate(fun, args, t_ev, y_new, yp_new)
         nfev += 1
         status = _value_status(g, m)
         if status != OK:
             break
         status = NOT_CONVERGED if until_converged else OK
         niter += 1
-        if until_converged:
-            change = 0.0
+        change = 0.0
+        if am != 0.0:   # (1 - alpha_m) z + alpha_m y'' = F
+            for k in range(m):
+                gk = (g[k] - am * ypp[k]) / (1.0 - am)
+                change = max(change, abs(gk - z[k]))
+                z[k] = gk
+        elif until_converged:
             for k in range(m):
                 change = max(change, abs(g[k] - z[k]))
                 z[k] = g[k]
+        else:
+            for k in range(m):
+                z[k] = g[k]
+        if until_converged:
             if w_max * change <= it.tol * size:
                 status = OK
                 break
@@ -382,19 +421,16 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
                     and w_max * change <= ROUNDING_WINDOW * size):
                 probes += 1
                 nfev += 1
-                if change <= ROUNDING_MULTIPLE * rounding_level(fun, args, t_new, z, y_new,
-                                                                yp_new):
+                if change <= ROUNDING_MULTIPLE * rounding_level(fun, args, t_ev, z, y_new,
+                                                                yp_new, ypp, am):
                     status = OK
                     break
             if niter == 1:
                 first = change
             last = change
-        else:
-            for k in range(m):
-                z[k] = g[k]
     rate = np.nan
     if status == OK:
-        status = _finish(dt, z, y_new, yp_new, work)
+        status = _finish(dt, z, y_new, yp_new, work, sc)
     elif until_converged:
         rate = contraction_rate(first, last, niter)
     return status, nfev, 0, niter, rate
@@ -409,7 +445,8 @@ def _rounding_bound(bound, wy, wyp, y_new, yp_new, scale):
     for k in range(y_new.shape[0]):
         y_max = max(y_max, abs(y_new[k]))
         yp_max = max(yp_max, abs(yp_new[k]))
-    return EPS * (bound * (y_max / wy + yp_max / abs(wyp)) + scale)
+    # beta = 0: the matrix holds no dF/dy, and y_new no z
+    return EPS * (bound * ((y_max / wy if wy > 0.0 else 0.0) + yp_max / abs(wyp)) + scale)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -436,9 +473,11 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
     by about a third (``make bench``)."""
     m = s.y.shape[0]
     y, yp, ypp, z, y_new, yp_new = s.y, s.yp, s.ypp, s.z, s.y_new, s.yp_new
-    wy = Y_WEIGHT * dt * dt
-    wyp = YP_WEIGHT * dt
-    w_max = max(wy, abs(wyp))
+    sc = it.scheme
+    at = _at(sc, t_new, dt)
+    t_ev, _, wy_e, wyp_e, am = at
+    w_max = max(sc.beta * dt * dt, abs(sc.gamma * dt))
+    wy, wyp = wy_e / (1.0 - am), wyp_e / (1.0 - am)   # Newton's matrix's weights
     until_converged = it.until_converged
     work, info = kept.work, kept.info
     nfev = 0
@@ -450,7 +489,7 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
     dz, lu_slot, piv_slot = work[_RESIDUAL], kept.lu[slot], kept.piv[slot]
     first, rate, sparse = 0.0, np.nan, it.sparse
     for attempt in range(2):
-        _start(dt, y, yp, ypp, z, work)
+        _start(dt, y, yp, ypp, z, work, sc)
         status = NOT_CONVERGED if until_converged else OK
         if info[slot, 0] != 0.0 and abs(dt - info[slot, 1]) > STEP_CHANGE * abs(info[slot, 1]):
             info[slot, 0] = 0.0
@@ -458,22 +497,23 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
         last_change = np.inf
         n_attempt = 0
         for _ in range(it.n_iter):
-            size = _trial(wy, wyp, z, y_new, yp_new, work)
+            size = _trial(wy_e, wyp_e, z, y_new, yp_new, work)
             if not size < np.inf:
                 status = DIVERGED
                 break
-            g = evaluate(fun, args, t_new, y_new, yp_new)
+            g = evaluate(fun, args, t_ev, y_new, yp_new)
             nfev += 1
             status = _value_status(g, m)
             if status != OK:
                 break
             status = NOT_CONVERGED if until_converged else OK
-            # F's value kept in row _G: ``g`` may be the loop's one buffer,
-            # which the finite differences of a new matrix overwrite.
+            # The update G = (F - alpha_m y'') / (1 - alpha_m) (F itself for
+            # Newmark's members) kept in row _G: ``g`` may be the loop's one
+            # buffer, which the finite differences of a new matrix overwrite.
             for k in range(m):
-                work[_G, k] = g[k]
+                work[_G, k] = (g[k] - am * ypp[k]) / (1.0 - am)
             if info[slot, 0] == 0.0:
-                fe, je, status = _build_matrix(fun, args, jac, t_new, dt, s, work, lu_slot,
+                fe, je, status = _build_matrix(fun, args, jac, at, s, work, lu_slot,
                                                piv_slot, info[slot], it, slot)
                 nfev += fe
                 njev += je
@@ -526,7 +566,7 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
                 status = OK
                 break
         if status == OK:
-            status = _finish(dt, z, y_new, yp_new, work)
+            status = _finish(dt, z, y_new, yp_new, work, sc)
         elif until_converged:
             rate = contraction_rate(first, last_change, n_attempt)
         if status != OK:
@@ -627,13 +667,20 @@ def composed_step(fun, args, jac, t, t_new, s, method, kept, sub, span):
 
 
 @register_jitable
-def local_errors(jerk_new, jerk_old, dt, dt_prev):
-    """The estimated local errors (of y, of y') of a step of size ``dt``
-    whose third derivative is ``jerk_new``, after one of size ``dt_prev``
-    with ``jerk_old``: the jump estimates the fourth derivative (see
-    ERR_Y).  Numbers in compiled code, arrays (broadcast) in Python."""
-    y4 = abs(jerk_new - jerk_old) / abs(0.5 * (dt + dt_prev))
-    return ERR_Y * (dt * dt) * (dt * dt) * y4, ERR_YP * abs(dt * dt * dt) * y4
+def local_errors(y3, jump, dt, dt_prev, sc):
+    """The estimated local errors (of y, of y') of the member ``sc``'s
+    step of size ``dt``, whose mean third derivative (a_{n+1} - a_n) / dt
+    is ``y3`` in size, and whose third derivative differs by ``jump`` from
+    that of the step before, of size ``dt_prev``: the jump estimates the
+    fourth derivative, and the estimates are c3y |h|^3 |y'''| + c4y h^4
+    |y''''| and c2yp h^2 |y'''| + c3yp |h|^3 |y''''| (the constants of
+    :meth:`splinestep.members.Member.error_constants`; for the spline c3y
+    = c2yp = 0, c4y = 1/24, c3yp = 1/12).  Numbers in compiled code,
+    arrays (broadcast) in Python."""
+    y4 = jump / abs(0.5 * (dt + dt_prev))
+    h3 = abs(dt * dt * dt)
+    return (sc.c4y * (dt * dt) * (dt * dt) * y4 + sc.c3y * h3 * y3,
+            sc.c3yp * h3 * y4 + sc.c2yp * (dt * dt) * y3)
 
 
 def relations(dt, y, yp, ypp, y1, yp1, z):
