@@ -20,6 +20,9 @@
 #                    the number of equations (benchmarks/scaling.py)
 #   make lab         JupyterLab at the repository root, .py <-> .ipynb pairs active
 #   make test-emulated   the tests with numpy's newer CPU kernels switched off, as on another CPU
+#   make opensees-reference   run OpenSees (openseespy, in a venv of its own under build/) on the
+#                    problems of scripts/opensees_reference.py and rewrite tests/data/opensees/,
+#                    which tests/test_opensees.py compares every member of the family with
 
 PYTHON ?= python3
 VENV := .venv
@@ -39,7 +42,7 @@ export PYTHONDONTWRITEBYTECODE :=
 # what another CPU's rounding does (names not present on a CPU are ignored).
 EMULATED_CPU := NPY_DISABLE_CPU_FEATURES="AVX512_ICL AVX512_SPR X86_V4 X86_V3" NUMBA_CPU_NAME=generic
 
-.PHONY: reproduce paper site browser test test-emulated bench lab env clean
+.PHONY: reproduce paper site browser test test-emulated bench lab env clean opensees-reference
 
 env: $(STAMP) $(FAST_IMPORT)
 
@@ -96,6 +99,16 @@ test-emulated: $(STAMP) $(FAST_IMPORT)
 bench: $(STAMP) $(FAST_IMPORT)
 	$(BIN)/python benchmarks/speed.py
 	$(BIN)/python benchmarks/scaling.py
+
+# The reference trajectories from OpenSees (not a dependency of the package:
+# its own venv, its wheel pinned so that the data regenerate byte for byte;
+# its Linux wheel loads Debian's BLAS and LAPACK).
+OSVENV ?= build/opensees-venv
+opensees-reference:
+	dpkg -s libblas3 liblapack3 > /dev/null 2>&1 || apt-get install -y -qq libblas3 liblapack3 > /dev/null
+	test -x $(OSVENV)/bin/python || { $(PYTHON) -m venv $(OSVENV) && \
+		$(OSVENV)/bin/pip install --quiet openseespy==3.7.1.2 "$$(grep '^numpy==' environment.txt)"; }
+	$(OSVENV)/bin/python scripts/opensees_reference.py
 
 lab: $(STAMP) $(FAST_IMPORT)
 	$(BIN)/python scripts/lab.py

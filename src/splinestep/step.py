@@ -437,14 +437,23 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _rounding_bound(bound, wy, wyp, y_new, yp_new, scale):
+def _rounding_bound(bound, wy, wyp, y_new, yp_new, scale, work):
     """eps (|dF/dy| |y| + |dF/dy'| |y'| + |F|) (max norms), with |dF/dy| and
     |dF/dy'| bounded by the contraction bound h^2/6 |dF/dy| + h/2 |dF/dy'|
-    of Newton's matrix divided by h^2/6 and h/2; ``scale`` is |F|."""
+    of Newton's matrix divided by h^2/6 and h/2; ``scale`` is |F|.  With
+    ``work`` (the alpha members), |y| and |y'| are at least the parts of
+    the state that do not depend on z: their sum cancels where the state
+    is small beside its acceleration a_n (the spurious mode that the alpha
+    members damp by rho_inf per step, at large omega h), and its rounding
+    is theirs."""
     y_max, yp_max = 0.0, 0.0
     for k in range(y_new.shape[0]):
         y_max = max(y_max, abs(y_new[k]))
         yp_max = max(yp_max, abs(yp_new[k]))
+    if work is not None:
+        for k in range(y_new.shape[0]):
+            y_max = max(y_max, abs(work[_BASE_Y, k]))
+            yp_max = max(yp_max, abs(work[_BASE_YP, k]))
     # beta = 0: the matrix holds no dF/dy, and y_new no z
     return EPS * (bound * ((y_max / wy if wy > 0.0 else 0.0) + yp_max / abs(wyp)) + scale)
 
@@ -480,6 +489,10 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
     wy, wyp = wy_e / (1.0 - am), wyp_e / (1.0 - am)   # Newton's matrix's weights
     until_converged = it.until_converged
     work, info = kept.work, kept.info
+    # The alpha members' rounding level counts the terms that cancel
+    # (_rounding_bound); alpha_m y'' enters G's scale.
+    terms = work if (am != 0.0 or sc.alpha_f != 0.0) else None
+    scale_a = 0.0
     nfev = 0
     njev = 0
     niter = 0
@@ -512,6 +525,7 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
             # buffer, which the finite differences of a new matrix overwrite.
             for k in range(m):
                 work[_G, k] = (g[k] - am * ypp[k]) / (1.0 - am)
+                scale_a = max(scale_a, abs(am * ypp[k]) / (1.0 - am))
             if info[slot, 0] == 0.0:
                 fe, je, status = _build_matrix(fun, args, jac, at, s, work, lu_slot,
                                                piv_slot, info[slot], it, slot)
@@ -521,13 +535,13 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
                 if status != OK:
                     break
                 status = NOT_CONVERGED if until_converged else OK
-            residual, scale = 0.0, 0.0
+            residual, scale = 0.0, scale_a
             for k in range(m):
                 dz[k] = work[_G, k] - z[k]
                 residual = max(residual, abs(dz[k]))
                 scale = max(scale, abs(work[_G, k]))
             if (until_converged and it.matrices >= 0.0 and residual <= ROUNDING_MULTIPLE
-                    * _rounding_bound(info[slot, 2], wy, wyp, y_new, yp_new, scale)):
+                    * _rounding_bound(info[slot, 2], wy, wyp, y_new, yp_new, scale, terms)):
                 # Matrices built in Python (a constant or sparse Jacobian): a
                 # residual at the rounding level needs no further solve.
                 niter += 1
@@ -554,7 +568,7 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
                 z[k] += dz[k]
             converged = w_max * change <= it.tol * size
             rounded = (until_converged and not converged and residual <= ROUNDING_MULTIPLE
-                       * _rounding_bound(info[slot, 2], wy, wyp, y_new, yp_new, scale))
+                       * _rounding_bound(info[slot, 2], wy, wyp, y_new, yp_new, scale, terms))
             if not reuse or (change > SLOW_RATE * last_change and not fresh and not rounded):
                 info[slot, 0] = 0.0
             last_change = change
