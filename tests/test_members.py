@@ -138,7 +138,6 @@ def test_every_member_between_knots(name):
     np.testing.assert_allclose(at.y, knots.sol(t_eval)[:1], rtol=0, atol=1e-13)
     assert error(at) <= 2 * error(knots)
     r, wd = C / 2, np.sqrt(1 - C * C / 4)
-    t_zero = (np.pi - np.arctan2(r, wd) + np.pi / 2 - np.pi / 2) / wd
     t_zero = (np.arctan2(-1.0, r / wd) % np.pi) / wd      # cos + (r/wd) sin = 0
     slope = abs(exact([t_zero])[1][0, 0])
     assert abs(knots.t_events[0][0] - t_zero) < 2 * error(knots) / slope

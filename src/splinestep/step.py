@@ -492,12 +492,7 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
     # The alpha members' rounding level counts the terms that cancel
     # (_rounding_bound); alpha_m y'' enters G's scale.
     terms = work if (am != 0.0 or sc.alpha_f != 0.0) else None
-    scale_a = 0.0
-    nfev = 0
-    njev = 0
-    niter = 0
-    status = OK
-    reuse = it.reuse
+    scale_a, nfev, njev, niter, status, reuse = 0.0, 0, 0, 0, OK, it.reuse
     # Views made once per step, not per iteration (each costs reference counting).
     dz, lu_slot, piv_slot = work[_RESIDUAL], kept.lu[slot], kept.piv[slot]
     first, rate, sparse = 0.0, np.nan, it.sparse

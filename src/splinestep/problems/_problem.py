@@ -5,6 +5,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..members import MEMBERS
 from ..rk4 import rk4
 from ..spline import solve
 from ..verlet import verlet
@@ -68,13 +69,19 @@ class Problem:
 
     def solve(self, method="spline", h=None, **kwargs):
         """Integrate with ``method`` "spline" (:func:`splinestep.solve`),
+        another member of Newmark's family (a name of
+        :data:`splinestep.members.MEMBERS`, on :func:`splinestep.solve`),
         "rk4" (:func:`splinestep.rk4`) or "verlet" (:func:`splinestep.verlet`)
         at step ``h`` (default: the report's step; "adaptive": the spline
         stepper's adaptive knots, with ``rtol`` and ``atol``); further
         keywords go to the solver."""
         solvers = {"spline": solve, "rk4": rk4, "verlet": verlet}
+        if isinstance(method, str) and method in MEMBERS and method not in solvers:
+            # another member of Newmark's family (splinestep.members)
+            kwargs["method"], method = method, "spline"
         if method not in solvers:
-            raise ValueError(f"method must be one of {tuple(solvers)}, got {method!r}")
+            raise ValueError(f"method must be one of {tuple(solvers)} or a member of "
+                             f"{sorted(MEMBERS)}, got {method!r}")
         if isinstance(h, str) and (h != "adaptive" or method != "spline"):
             raise ValueError(f'h must be a number, None or "adaptive" (spline only), got {h!r}')
         if (method == "spline" and kwargs.get("iteration") in ("newton", "global")
