@@ -161,6 +161,12 @@ COLUMNS = {
                                       error_ratio_yp="adaptive", problem="exact"),
     "tolerance-uniform": dict(method="exact", n="exact", nfev="exact", error="error",
                               scale_y="state", problem="exact"),
+    "family-members": dict(beta="exact", gamma="exact", alpha_m="exact", alpha_f="exact",
+                           order="exact", limit="exact", rho_inf="exact"),
+    "family-spectra": dict(Omega="exact", rho="state", period_error="error", damping="error"),
+    "family-report-problems": dict(error="error", per_step="exact"),
+    "family-chain": dict(m="exact", omega_m_h="exact", nstep="exact", nfev="exact",
+                         solves="exact", error="error"),
     "pleiades-steps": dict(status="exact", nfev="exact", nstep="exact", rejected="exact",
                            failed="exact", t_end="state", error="error", flagged="exact"),
     # Uniform runs matched to adaptive ones: every column follows the adaptive run.
