@@ -71,7 +71,8 @@ class Tolerance:
         scale = finite.max() if finite.size else 0.0
         bound = self.rtol * np.abs(old) + self.atol + self.scale_rtol * scale
         both_nan = np.isnan(old) & np.isnan(new)
-        close = np.abs(new - old) <= bound
+        with np.errstate(invalid="ignore"):   # inf - inf: equal infinities are compared below
+            close = (np.abs(new - old) <= bound) | (old == new)
         if self.factor:
             with np.errstate(divide="ignore", invalid="ignore"):
                 ratio = np.abs(np.log(new / old))
