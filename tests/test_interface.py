@@ -265,6 +265,14 @@ def test_the_readme_and_guide_examples_run():
     assert bvp.status == 0 and np.max(np.abs(bvp.y[0] - exact(bvp.t))) < 1e-5
     res = namespace["res"]
     assert res.success and res.path == "compiled"
+    # The building: mass= equals y'' = M^-1 (...) written out (M is diagonal)
+    quake, building, M = namespace["quake"], namespace["building"], namespace["M"]
+    masses = M.diagonal()
+    by_hand = splinestep.solve(lambda t, y, yp: building(t, y, yp) / masses, (0.0, 10.0),
+                               np.zeros(masses.size), np.zeros(masses.size),
+                               h=namespace["dt_record"], method="average-acceleration")
+    assert quake.status == 0 and quake.niter == 2 * quake.nstep
+    assert np.max(np.abs(quake.y - by_hand.y)) < 1e-10 * np.max(np.abs(by_hand.y))
     g, height, speed = 9.81, 10.0, 5.0
     landing = (speed + math.sqrt(speed**2 + 2 * g * height)) / g
     ball = splinestep.solve(lambda t, y, yp: -g, (0, 10), height, speed, h=0.01,

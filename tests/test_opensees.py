@@ -83,29 +83,32 @@ def restoring(problem):
     return r
 
 
-def package_run(problem, member):
-    """The package's run of the record's problem with ``member``."""
+def package_run(problem, member, mass=False):
+    """The package's run of the record's problem with ``member``: y'' =
+    M^-1 (f - C y' - R(y)) written out (M is lumped), or with ``mass`` M
+    y'' = f - C y' - R(y) with ``mass=M``."""
     M, C = np.array(problem["mass"]), np.array(problem["damping"])
     minv = 1.0 / np.diag(M)
     assert np.array_equal(M, np.diag(np.diag(M)))   # lumped: F = M^-1 (...)
     f, r = force(problem), restoring(problem)
 
     def fun(t, y, yp):
-        return minv * (f(t) - C @ yp - r(y))
+        return (1.0 if mass else minv) * (f(t) - C @ yp - r(y))
     t0, h, n = problem["t0"], problem["h"], problem["n_steps"]
     return splinestep.solve(fun, (t0, t0 + n * h), np.array(problem["y0"]),
                             np.array(problem["yp0"]), h, method=member, iteration="newton",
-                            tol=1e-15, check=False)
+                            tol=1e-15, check=False, mass=M if mass else None)
 
 
+@pytest.mark.parametrize("mass", [False, True])
 @pytest.mark.parametrize("case", CASES)
-def test_every_member_equals_opensees_step_by_step(case):
+def test_every_member_equals_opensees_step_by_step(case, mass):
     data = load(case)
     problem = data["problem"]
     assert len(data["members"]) == 6
     for record in data["members"].values():
         member = named(record)
-        res = package_run(problem, member)
+        res = package_run(problem, member, mass)
         assert res.status == 0 and res.t.size == problem["n_steps"] + 1, res.message
         for ours, key in ((res.y, "y"), (res.yp, "yp"), (res.ypp, "ypp")):
             theirs = np.array(record[key]).T

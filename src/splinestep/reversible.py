@@ -105,4 +105,4 @@ def solve_reversible(fun, t_span, y0, yp0, eps, control, *, rho0=1.0, args=(), t
     step = driver.method(driver.SPLINE, mode, max_iter, True, tol, True)
     ctrl = controllers.reversible(tf, eps, rho0, max_steps)
     return run_spline(fun, jac if mode == NEWTON else None, args, step, ctrl, (t0, y0, yp0),
-                      (t_eval, events, dense_output), max_iter, 2, control=control, check=check)
+                      (t_eval, events, dense_output), max_iter, control=control, check=check)

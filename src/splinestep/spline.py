@@ -163,6 +163,18 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         alpha).  The members other than the spline interpolate between
         knots by the cubic Hermite of (y, y') and (y', y''); the alpha
         members' y'' at a knot is their own acceleration a_n, not F there.
+    mass : array_like, scipy.sparse matrix or vector, optional
+        A constant mass matrix M: solve M y'' = F(t, y, y') (as structural
+        codes write M y'' + C y' + K y = f(t): ``fun`` returns f - C y' - K
+        y, ``jac`` is (-K, -C)).  M is factorised once (SuperLU when it is
+        sparse with :data:`splinestep._linalg.SPARSE_FROM` components or
+        more; a vector is a diagonal M); the step equation is the member's
+        with F replaced by M^-1 F (one solve with M per evaluation of
+        ``fun``), and Newton's matrix is M - gamma h dF/dy' - beta h^2
+        dF/dy (times the alpha members' weights), built in Python from any
+        ``jac``, sparse when M or the Jacobian is.  ``fun`` then runs as
+        plain Python (``res.path == "plain"``); ``res.ypp`` holds M^-1 F.
+        Not with ``iteration="global"``.
     iteration : {"fixed-point", "newton", "global"}
         How the step equation is solved.  "fixed-point" is the report's
         scheme; it converges when h^2/6 |dF/dy| + h/2 |dF/dy'| < 1.
@@ -352,11 +364,12 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         ctrl = controllers.constant(tf, h, n, knots, opts["max_steps"])
     weights, slots, inside, inside_slots = composition(order)
     step = step._replace(weights=weights, slots=slots, inside=inside, inside_slots=inside_slots)
+    mass = None if opts["mass"] is None else _linalg.Mass(opts["mass"], y0.size)
     return run_spline(fun, jac, args, step, ctrl, (t0, y0, yp0), (t_eval, events, dense_output),
-                      opts["max_iter"], order, check=opts["check"], member=member)
+                      opts["max_iter"], check=opts["check"], member=member, mass=mass)
 
 
-_OPTIONS = dict(method="spline", iteration="fixed-point", iterations=None, tol=1e-12, max_iter=50, jac=None,
+_OPTIONS = dict(method="spline", mass=None, iteration="fixed-point", iterations=None, tol=1e-12, max_iter=50, jac=None,
                 rtol=1e-3, atol=1e-6, first_step=None, max_step=np.inf,
                 max_steps=_base.MAX_STEPS, reuse_jacobian=True, check=True)
 
@@ -376,6 +389,9 @@ def _check_choices(opts, order, adaptive, events, member):
     if order != 2 and not member.symmetric:
         raise ValueError(f"order={order} composes symmetric steps only (gamma = 1/2, no "
                          f"alpha); method {member.describe()} is not")
+    if iteration == "global" and opts["mass"] is not None:
+        raise ValueError('iteration="global" takes no mass matrix; pass iteration='
+                         '"fixed-point" or "newton"')
     if iteration == "global" and not member.is_spline:
         raise ValueError('iteration="global" solves the spline\'s relations only; method '
                          f"{member.name!r} takes iteration=\"fixed-point\" or \"newton\"")
@@ -423,8 +439,8 @@ def _step(fun, opts, order, member):
                          scheme=member.scheme()), jac
 
 
-def run_spline(fun, jac, args, step, ctrl, start, output, max_iter, order, control=None,
-               check=True, member=None):
+def run_spline(fun, jac, args, step, ctrl, start, output, max_iter, control=None,
+               check=True, member=None, mass=None):
     """The spline stepper on the driver, with every check: the front door
     of :func:`solve` and :func:`splinestep.solve_reversible` once their
     arguments are valid and their step and controller chosen.  ``start`` is
@@ -436,15 +452,22 @@ def run_spline(fun, jac, args, step, ctrl, start, output, max_iter, order, contr
     factorised by SuperLU from :data:`splinestep._linalg.SPARSE_FROM`
     components, else densified for the compiled LU.  ``member`` is the
     :class:`splinestep.members.Member` the step takes (the spline's when
-    None)."""
+    None); ``mass`` a :class:`splinestep._linalg.Mass`, whose runs see
+    M^-1 F as their F (a plain function) and build every Newton matrix in
+    Python, M - wy dF/dy - wyp dF/dy'.  The order is the composition's
+    (2, 4 or 6 for 1, 3 or 7 sub-steps)."""
     member = _member("spline") if member is None else member
+    order = {1: 2, 3: 4, 7: 6}[step.weights.size]
     t0, y0, yp0 = start
     t_eval, events, dense_output = output
     kind = None if jac is None else _base.check_jac(jac, t0, y0, yp0, args)
     matrices = None
-    if kind == "sparse" or (kind is not None and not callable(jac)):
-        matrices = _linalg.Matrices(jac, args, y0.size,
-                                    kind == "sparse" and y0.size >= _linalg.SPARSE_FROM)
+    if mass is not None:
+        fun = mass.apply(fun)
+    if kind == "sparse" or (kind is not None and (not callable(jac) or mass is not None)):
+        matrices = _linalg.Matrices(
+            jac, args, y0.size, (kind == "sparse" or (mass is not None and mass.sparse))
+            and y0.size >= _linalg.SPARSE_FROM, mass)
     loop_jac = None if matrices is not None else jac
     path = _base.choose_path(fun, loop_jac, args)
     if path == "compiled":
@@ -466,7 +489,8 @@ def run_spline(fun, jac, args, step, ctrl, start, output, max_iter, order, contr
     # For a composition the jumps measure the local error of a spline step of
     # size h, which overstates the composition's: the check still sees a step
     # far too large for the solution, and no reasonable one.
-    _check.report(result, out, fun, jac, args, (t0, y0, yp0), member, check)
+    _check.report(result, out, fun, None if mass is not None else jac, args, (t0, y0, yp0),
+                  member, check)
     return result
 
 
