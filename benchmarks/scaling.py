@@ -6,7 +6,10 @@ mode, at the step omega_m h = 1 (omega_m the fastest frequency; order 4
 takes the same h), with the exact modal solution as reference.  For m = 10,
 100, 1,000, 10,000 and 100,000 it measures each path of splinestep
 (fixed-point sweep, RK4, Verlet, order 4, Newton with a dense and with a
-sparse Jacobian, adaptive knots) beside
+sparse Jacobian, adaptive knots) and the other members of Newmark's family
+on their natural paths (Fox-Goodwin and central difference by the sweep;
+average acceleration, HHT and generalized-alpha by Newton with SuperLU)
+beside
 
 - a numpy Newmark(1/6, 1/2) with scipy's ``splu`` (:func:`newmark`: the
   floor for a linear problem, one product with K and one sparse solve a
@@ -176,6 +179,23 @@ def paths(problem):
             lambda steps: spline_run(None, h=None, **ADAPTIVE_TOL),
             None if m <= 1_000 else "the whole span, not truncatable: its steps and the "
             "cost of each grow with m (the rows of m = 1,000 and below)", False),
+        # Newmark's family, each member on its natural path: the explicit-like
+        # members (beta < 1/4, stable at omega_m h = 1) by the sweep, the
+        # unconditionally stable ones by Newton with SuperLU, the matrix
+        # factorised once for the linear chain.
+        "Fox-Goodwin (fixed point)": (
+            lambda steps: spline_run(steps, method="fox-goodwin"), None, True),
+        "central difference (fixed point)": (
+            lambda steps: spline_run(steps, method="central-difference"), None, True),
+        "average acceleration, sparse jac": (
+            lambda steps: spline_run(steps, method="average-acceleration", iteration="newton",
+                                     jac=p.jac), None, True),
+        "HHT (alpha 0.1), sparse jac": (
+            lambda steps: spline_run(steps, method="hht", iteration="newton", jac=p.jac),
+            None, True),
+        "generalized-alpha (rho 0.8), sparse jac": (
+            lambda steps: spline_run(steps, method="generalized-alpha", iteration="newton",
+                                     jac=p.jac), None, True),
         "numpy Newmark + splu (floor)": (
             lambda steps: newmark(p.jac[0], p.t_span, p.y0, p.yp0, p.h, steps), None, True),
         "scipy DOP853": (lambda steps: scipy_run(DOP853, p, steps), None, True),

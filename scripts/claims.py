@@ -640,11 +640,56 @@ def boundary_value_problems(m):
         "beyond the report", "11_global_sweep_and_bvp", "Boundary value problems")
 
 
+def _leading(series):
+    """The lowest-order term of a series written by sympy (data/family-members.csv), as LaTeX."""
+    import sympy as sp
+    omega = sp.Symbol("Omega")
+    terms = sp.sympify(series).as_ordered_terms()
+    coefficient, power = min(terms, key=lambda t: sp.degree(t, omega)).as_coeff_exponent(omega)
+    coefficient = sp.Rational(coefficient)
+    sign = "-" if coefficient < 0 else ""
+    top = "" if abs(coefficient.p) == 1 else str(abs(coefficient.p))
+    return f"{sign}{top}(\\omega h)^{{{power}}}/{coefficient.q}"
+
+
+def newmark_family(m):
+    members = m.family_members.set_index("member")
+    errors = m.family_report_problems.pivot(index="member", columns="problem", values="error")
+    cannon = errors[[c for c in errors.columns if c.startswith("cannonball")]]
+    spread = (cannon.max() / cannon.min()).max()
+    rigid = errors["rigid body"]
+    chain = m.family_chain.set_index(["m", "member"]).nstep
+    sizes = sorted({size for size, _ in chain.index})
+    ratios = [chain[(size, "spline")] / chain[(size, "average-acceleration")] for size in sizes]
+    return row(
+        "Sec. 2", "the report's member of Newmark's family (linear acceleration) against its "
+        "neighbours",
+        f"period error on $y'' = -\\omega^2 y$ to leading order "
+        f"${_leading(members.period_error['spline'])}$ for the report's member, "
+        f"${_leading(members.period_error['average-acceleration'])}$ for average "
+        f"acceleration (sympy); stability limit $\\omega h$ < "
+        f"{members.limit['spline']:.3f} (Fox-Goodwin {members.limit['fox-goodwin']:.3f}; "
+        f"average acceleration, HHT and generalized-$\\alpha$ none). At the report's steps the "
+        f"six members' largest errors on each cannonball orbit lie within a factor of "
+        f"{spread:.1f} of each other; on the rigid body Fox-Goodwin's is "
+        f"{rigid['spline'] / rigid['fox-goodwin']:.0f} times below the report's member's, "
+        f"average acceleration's {rigid['average-acceleration'] / rigid['spline']:.1f} times "
+        f"above. On the chain of m masses, the slowest mode to a phase error of 1e-3, the "
+        f"report's member takes {' and '.join(f'{r:.1f}' for r in ratios)} times average "
+        f"acceleration's steps at m = {' and '.join(f'{size:,}' for size in sizes)}, a ratio "
+        f"that grows like m",
+        "a finding beyond the report: its member is the right choice where every frequency "
+        "must be resolved (half average acceleration's period error at the same cost); a "
+        "discretised structure, whose fast modes need no resolution, is better served by an "
+        "unconditionally stable member",
+        "beyond the report", "13_newmark_family", "Verdict")
+
+
 # The claims in the order of the table: the report's, then the findings beyond it.
 CLAIMS = (orbit_types, solves_both, cannonball_below_1e3, rigid_body_below_1e3,
           error_follows_orbit, second_order, against_rk4, stable, reaches_tolerance, proof,
           higher_degree, bounded_energy, against_verlet, adaptability, higher_order,
-          global_sweep, boundary_value_problems)
+          global_sweep, boundary_value_problems, newmark_family)
 
 
 def claims_table(measured=None):

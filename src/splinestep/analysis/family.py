@@ -23,9 +23,12 @@ T_h / T = Omega / arg(lambda) and xi_h = -ln|lambda| / arg(lambda).
 
 The derivations take the coefficients as numbers: sympy Rationals, ints or
 floats (a float is read as the fraction its printed digits give, sympy's
-``nsimplify(..., rational=True)``: 0.1 as 1/10).  :data:`MEMBERS`,
-:func:`hht_parameters` and :func:`generalized_alpha_parameters` give the
-coefficients of the named members.  The module uses nothing of the solver;
+``nsimplify(..., rational=True)``: 0.1 as 1/10).  :func:`coefficients`
+reads a member's from its record in :mod:`splinestep.members`;
+:data:`MEMBERS`, :func:`hht_parameters` and
+:func:`generalized_alpha_parameters` give the
+coefficients of the named members.  The module uses nothing of the solver
+but the members' records;
 ``tests/test_family_analysis.py`` checks each derived constant against the
 numeric functions and the matrix against steps taken with the formulas above.
 
@@ -44,70 +47,67 @@ References
 """
 
 import functools
+from fractions import Fraction
 
 import numpy as np
 import sympy as sp
+
+from .. import members as _members
 
 Omega = sp.Symbol("Omega", positive=True)      # omega h
 lam = sp.Symbol("lambda")                      # an eigenvalue of A
 HALF = sp.Rational(1, 2)
 
-# The members of the module docstring as (beta, gamma, alpha_m, alpha_f).
-MEMBERS = {
-    "linear acceleration": (sp.Rational(1, 6), HALF, 0, 0),
-    "average acceleration": (sp.Rational(1, 4), HALF, 0, 0),
-    "Fox-Goodwin": (sp.Rational(1, 12), HALF, 0, 0),
-    "central difference": (sp.Integer(0), HALF, 0, 0),
-}
+def coefficients(member):
+    """(beta, gamma, alpha_m, alpha_f) of a member of Newmark's family as
+    sympy Rationals, read from its one record
+    (:func:`splinestep.members.member`: a record, a name of
+    :data:`splinestep.members.MEMBERS` or a pair (beta, gamma))."""
+    record = _members.member(member)
+    return tuple(sp.Rational(c.numerator, c.denominator)
+                 for c in (record.beta, record.gamma, record.alpha_m, record.alpha_f))
+
+
+def _fraction(value):
+    """A sympy number or a Python one as a Fraction (exact for Rationals)."""
+    value = sp.nsimplify(value, rational=True) if not isinstance(value, sp.Rational) else value
+    return Fraction(int(value.p), int(value.q))
+
+
+# The members of the module docstring as (beta, gamma, alpha_m, alpha_f),
+# from splinestep.members.
+MEMBERS = {label: coefficients(name) for label, name in (
+    ("linear acceleration", "spline"), ("average acceleration", "average-acceleration"),
+    ("Fox-Goodwin", "fox-goodwin"), ("central difference", "central-difference"))}
 
 
 def hht_parameters(a):
-    """(beta, gamma, alpha_m, alpha_f) of the HHT-alpha method.
-
-    Parameters
-    ----------
-    a : number
-        The dissipation, 0 <= a <= 1/3 (Hilber, Hughes and Taylor's alpha
-        is -a).
-
-    Returns
-    -------
-    tuple
-        ((1 + a)^2 / 4, 1/2 + a, 0, a), exact.
+    """(beta, gamma, alpha_m, alpha_f) of the HHT-alpha method with
+    dissipation ``a`` in [0, 1/3] (Hilber, Hughes and Taylor's alpha is
+    -a): ((1 + a)^2 / 4, 1/2 + a, 0, a), exact, from
+    :func:`splinestep.members.hht`.
 
     References
     ----------
     .. [1] H. M. Hilber, T. J. R. Hughes, R. L. Taylor, Earthquake Eng.
        Struct. Dyn. 5 (1977) 283-292.
     """
-    a = _exact(a)
-    return (1 + a) ** 2 / 4, HALF + a, sp.Integer(0), a
+    return coefficients(_members.hht(_fraction(a)))
 
 
 def generalized_alpha_parameters(rho_inf):
     """(beta, gamma, alpha_m, alpha_f) of the generalized-alpha method with
-    spectral radius ``rho_inf`` at infinite step.
-
-    Parameters
-    ----------
-    rho_inf : number
-        0 <= rho_inf <= 1.
-
-    Returns
-    -------
-    tuple
-        alpha_m = (2 rho - 1) / (rho + 1), alpha_f = rho / (rho + 1),
-        gamma = 1/2 - alpha_m + alpha_f, beta = (1 - alpha_m + alpha_f)^2 / 4,
-        exact.
+    spectral radius ``rho_inf`` in [0, 1] at infinite step: alpha_m = (2
+    rho - 1) / (rho + 1), alpha_f = rho / (rho + 1), gamma = 1/2 - alpha_m +
+    alpha_f, beta = (1 - alpha_m + alpha_f)^2 / 4, exact, from
+    :func:`splinestep.members.generalized_alpha`.
 
     References
     ----------
     .. [1] J. Chung, G. M. Hulbert, J. Appl. Mech. 60 (1993) 371-375,
        Eqs. (25) and (26).
     """
-    rho = _exact(rho_inf)
-    alpha_m, alpha_f = (2 * rho - 1) / (rho + 1), rho / (rho + 1)
-    return (1 - alpha_m + alpha_f) ** 2 / 4, HALF - alpha_m + alpha_f, alpha_m, alpha_f
+    return coefficients(_members.generalized_alpha(_fraction(rho_inf)))
 
 
 def _exact(value):
