@@ -167,7 +167,7 @@ COLUMNS = {
     "family-spectra": dict(Omega="exact", rho="state", period_error="error", damping="error"),
     "family-report-problems": dict(error="error", per_step="exact"),
     "family-chain": dict(m="exact", omega_m_h="exact", nstep="exact", nfev="exact",
-                         solves="exact", error="error"),
+                         iterations="exact", error="error"),
     "pleiades-steps": dict(status="exact", nfev="exact", nstep="exact", rejected="exact",
                            failed="exact", t_end="state", error="error", flagged="exact"),
     # Uniform runs matched to adaptive ones: every column follows the adaptive run.

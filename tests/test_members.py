@@ -209,3 +209,33 @@ def test_method_names_and_refusals():
     with pytest.raises(ValueError, match="global"):
         splinestep.solve(lambda t, y, yp: -y, (0, 1), 1.0, 0.0, 0.1, method="hht",
                          iteration="global")
+
+
+def test_the_stability_limit_of_any_record():
+    """Records outside the formulas: the limit is where the amplification
+    matrix's spectral radius first exceeds 1, found numerically: sqrt(10)
+    for (beta, gamma, alpha_m, alpha_f) = (1/6, 1/2, 1/4, 1/5) (the
+    derivation of splinestep.analysis.family), and at once (below 1e-3)
+    for HHT's beta and alpha_f with gamma = 1/2, whose step grows at every
+    omega h; a run past the first limit grows."""
+    odd = members.Member("odd", Fraction(1, 6), Fraction(1, 2), Fraction(1, 4), Fraction(1, 5))
+    assert odd.stability_limit == pytest.approx(np.sqrt(10), rel=1e-9)
+    growing = members.Member("growing", Fraction(121, 400), Fraction(1, 2), Fraction(0),
+                             Fraction(1, 10))
+    assert growing.stability_limit < 1e-3
+    for h, bounded in ((0.95 * np.sqrt(10), True), (1.05 * np.sqrt(10), False)):
+        res = splinestep.solve(lambda t, y, yp: -y, (0.0, 2000 * h), 1.0, 0.0, h, method=odd,
+                               iteration="newton", jac=(np.array([[-1.0]]), np.array([[0.0]])),
+                               check=False)
+        assert (res.status == 0 and np.max(np.abs(res.y)) < 10) == bounded
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_the_estimates_a_member_reports(name):
+    """The alpha members estimate y alone: their local_error_yp is NaN, the
+    others' a number; local_error is a number for all."""
+    fun, _, _ = oscillator(1)
+    res = splinestep.solve(fun, (0.0, T_END), 1.0, 0.0, 0.05, method=name)
+    assert np.isfinite(res.local_error)
+    alpha = MEMBERS[name].alpha_m != 0 or MEMBERS[name].alpha_f != 0
+    assert np.isnan(res.local_error_yp) == alpha

@@ -1,7 +1,8 @@
 """Newton's matrices built outside the compiled loop, for a Jacobian given
 as constant matrices or returned as scipy.sparse matrices.
 
-The compiled loop builds Newton's matrix I - h^2/6 dF/dy - h/2 dF/dy' itself
+The compiled loop builds Newton's matrix I - beta h^2 dF/dy - gamma h dF/dy'
+(h^2/6 and h/2 for the spline; M - ... with a mass matrix, :class:`Mass`) itself
 when ``jac`` is a function returning dense arrays (or by finite
 differences), and factorises it by its own dense LU: O(m^3) per
 factorisation, O(m^2) per solve and m^2 numbers of memory.  A
@@ -81,7 +82,10 @@ class Matrices:
         """Build slot ``slot``'s matrix I - wy dF/dy - wyp dF/dy' at (t, y,
         yp) (with a mass matrix, M - wy dF/dy - wyp dF/dy'): factorised here
         (sparse: returns its contraction bound, the max-norm of wy dF/dy +
-        wyp dF/dy', divided by M's smallest diagonal), or -(wy dF/dy + wyp
+        wyp dF/dy', divided by M's smallest diagonal: an estimate of the
+        bound of M^-1 (...), exact for a diagonal M, too small for a
+        consistent one, which only makes the loop's test of an iterate at
+        the rounding level stricter), or -(wy dF/dy + wyp
         dF/dy') (times M^-1) written into ``lu`` for the loop to finish.
         Returns (status, njev, bound); a jac that fails or a singular matrix
         is SINGULAR, its reason kept for the run's message."""

@@ -6,7 +6,9 @@ far past what the solution supports, in two ways:
 1. The local error estimate.  y''' is constant on each interval of the
    spline, so its jump at a knot, divided by the mean of the two steps,
    estimates y''''; one step from exact values misses h^4 y''''/24 in y and
-   h^3 y''''/12 in y' to leading order (``step.ERR_Y``, ``step.ERR_YP``).  Every run
+   h^3 y''''/12 in y' to leading order (the constants of the member's
+   record, :mod:`splinestep.members`, whose other members add their h^3
+   y''' terms; the alpha members estimate y alone).  Every run
    reports the largest of these estimates and where.  When it exceeds
    :data:`LOCAL_FRACTION` of the largest |y| (or |y'|) of the run, the
    step cannot resolve the solution.  When the estimates summed over the
@@ -317,7 +319,9 @@ def report(result, run, fun, jac, args, start, member, enabled=True):
      sum_yp) = (float(v) for v in run.estimate)
     estimated = result.nstep >= 2
     result.local_error = err_y if estimated else np.nan
-    result.local_error_yp = err_yp if estimated else np.nan
+    sc = member.scheme()
+    has_yp = sc.c2yp != 0.0 or sc.c3yp != 0.0   # the alpha members estimate y alone
+    result.local_error_yp = err_yp if estimated and has_yp else np.nan
     result.t_local_error = t_err if estimated else np.nan
     if result.nstep == 0 or not enabled:
         return

@@ -29,7 +29,11 @@ h^3 y''''/12 in y' (:mod:`splinestep.analysis.theory`), so
     est_y = h^4 |y''''| / 24,   est_y' = |h|^3 |y''''| / 12.
 
 The estimate of Newmark codes (Zienkiewicz and Xie, 1991) is proportional
-to beta - 1/6 and vanishes for this method; the jump above does not.  At
+to beta - 1/6 and vanishes for this method; the jump above does not.  The
+other members of Newmark's family add their leading terms c3y |h|^3 |y'''|
+and c2yp h^2 |y'''| (y''' from (a_{n+1} - a_n)/h), with the constants of
+their records (:mod:`splinestep.members`); the alpha members estimate y
+alone (their estimate of y' is 0, reported as NaN).  At
 the first step there is no earlier interval: its role is taken by y''' at
 t0, from one finite difference of F along the Taylor line.
 
@@ -46,7 +50,8 @@ times the span.  The norm is scipy's: the root mean square over
 the 2m components of both scaled estimates divided by atol + rtol
 max(|old|, |new|), with rtol and atol per component.  A step is accepted
 when the norm is at most 1; the next step is the current one times
-SAFETY norm^(-1/2) (the estimate of y' per unit step is O(h^2)), within
+SAFETY norm^(-1/order) (the member's order: the estimates per unit step
+are O(h^2) for the second-order members), within
 [MIN_FACTOR, MAX_FACTOR], and not larger right after a rejection.  A
 step whose equation could not be solved (the sweep diverged, Newton
 failed) is rejected and retried FAILED_FACTOR times smaller.  Measured on

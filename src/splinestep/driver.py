@@ -82,8 +82,8 @@ from .step import (FIXED_POINT, SPLINE as SPLINE_SCHEME, Iteration, Method, Stat
 SPLINE, COMPOSED, RK4, VERLET = 0, 1, 2, 3
 # The interpolant of a step, for t_eval and events (splinestep.members):
 # the spline's cubic, the quintic Hermite through both knots' (y, y', y'')
-# (a composition's, of its order), and the cubic Hermite of (y, y') and of
-# (y', y'') (the baselines' and the other members').
+# (a composition's, of its order, and the other members'), and the cubic
+# Hermite of (y, y') and of (y', y'') (the baselines').
 
 
 @njit(cache=True)

@@ -19,9 +19,11 @@ Each :class:`Member` holds its four coefficients (exact fractions where they
 are rational) and derives from them everything the solver reads:
 
 - :attr:`Member.order`: 2 when gamma = 1/2 - alpha_m + alpha_f, else 1;
-- :attr:`Member.stability_limit`: the largest omega h for which the step
-  does not grow on y'' = -omega^2 y (infinite for the unconditionally stable
-  members; 1/sqrt(gamma/2 - beta) for Newmark's with gamma >= 1/2 [4]_);
+- :attr:`Member.stability_limit`: the supremum of the omega h below which
+  the step does not grow on y'' = -omega^2 y (infinite for the
+  unconditionally stable members; 1/sqrt(gamma/2 - beta) for Newmark's
+  with gamma >= 1/2 [4]_; at the limit itself a member with gamma = 1/2
+  has a double eigenvalue -1 and grows linearly);
 - :meth:`Member.error_constants`: the leading local errors of one step,
   the constants of the error estimate of the controllers, the driver's
   estimate and the step-size check (below);
@@ -29,7 +31,7 @@ are rational) and derives from them everything the solver reads:
   between knots: the spline's own C2 cubic for the report's member, whose
   knots it joins; for every other member the quintic Hermite through both
   knots' (y, y', a) (C2; exact for a quintic, so between knots as accurate
-  as the knots it joins, which are O(h^2));
+  as the knots it joins);
 - :meth:`Member.scheme`: the numbers the compiled steps read, a
   :class:`Scheme`.
 
@@ -38,14 +40,17 @@ solution at a time shifted by delta h, a_n = y''(t_n + delta h) with delta
 = alpha_m - alpha_f (what the last equation gives to leading order), a
 step from exact y_n, y'_n misses
 
-    err_y  = c3y h^3 y''' + c4y h^4 y'''',   err_y' = c2yp h^2 y''' + c3yp h^3 y'''',
+    err_y  = c3y h^3 y''' + ...,   err_y' = c2yp h^2 y''' + ...,
 
-with c3y = 1/6 - beta - delta/2, c2yp = 1/2 - gamma - delta (zero for the
-second-order members), c4y = 1/24 - (1/2 - beta) delta^2/2 - beta (1 +
-delta)^2/2 and c3yp = 1/6 - (1 - gamma) delta^2/2 - gamma (1 + delta)^2/2
-(Taylor expansion; ``tests/test_members.py`` checks each against one step
-from exact values).  Where delta is not 0 (the alpha members) the
-estimate keeps c3y |h|^3 |y'''| alone: a_n's shift changes with the step,
+with c3y = 1/6 - beta - delta/2 and c2yp = 1/2 - gamma - delta (zero for
+the second-order members).  For Newmark's members (delta = 0) the next
+terms are c4y h^4 y'''' and c3yp h^3 y'''' with c4y = 1/24 - beta/2 and
+c3yp = 1/6 - gamma/2 (Taylor expansion; ``tests/test_members.py`` checks
+all four against one step from exact values).  For the alpha members the
+next terms are not those of the shifted Taylor series (a_{n+1} itself
+misses h^2 y'''' terms that depend on the member), and the estimate keeps
+c3y |h|^3 |y'''| alone, for a second reason too: a_n's shift changes with
+the step,
 and where the step changes the jump of the third derivative measures that
 change rather than y'''' (an error controller reading it rejected half of
 its 109,480 steps on y'' = -4 y over (0, 5) at rtol = 1e-6).  For Newmark's members c3y = 1/6 - beta is the constant
@@ -90,6 +95,33 @@ Scheme.__doc__ = """The numbers of a member that the compiled steps read
 loop): the coefficients, the weights 1/2 - beta and 1 - gamma of a_n, the
 absolute error constants (:meth:`Member.error_constants`), the error
 controller's exponent 1/order and the interpolant's code."""
+
+
+def _first_growth(member, margin=1e-9):
+    """The first omega h at which ``member``'s amplification matrix on y''
+    = -omega^2 y has a spectral radius above 1 + ``margin`` (numpy; a grid
+    of 2,000 points to 1e6, then bisection), inf if none there."""
+    import numpy as np
+    b, g, am, af = (float(c) for c in (member.beta, member.gamma, member.alpha_m,
+                                       member.alpha_f))
+
+    def radius(x):
+        # M1 X_{n+1} = M0 X_n for X = (y, h y', h^2 a) (module docstring)
+        m1 = np.array([[1.0, 0.0, -b], [0.0, 1.0, -g], [(1 - af) * x * x, 0.0, 1 - am]])
+        m0 = np.array([[1.0, 1.0, 0.5 - b], [0.0, 1.0, 1 - g], [-af * x * x, 0.0, -am]])
+        return np.max(np.abs(np.linalg.eigvals(np.linalg.solve(m1, m0))))
+    grid = np.concatenate([[0.0], np.geomspace(1e-6, 1e6, 2000)])
+    above = [x for x in grid if radius(x) > 1.0 + margin]
+    if not above:
+        return math.inf
+    high = above[0]
+    if high == 0.0:
+        return 0.0
+    low = grid[int(np.searchsorted(grid, high)) - 1]
+    for _ in range(60):
+        mid = 0.5 * (low + high)
+        low, high = (mid, high) if radius(mid) <= 1.0 + margin else (low, mid)
+    return float(high)
 
 
 def _exact(value, name):
@@ -137,31 +169,34 @@ class Member(namedtuple("Member", "name beta gamma alpha_m alpha_f")):
         return self.gamma == Fraction(1, 2) and self.alpha_m == 0 and self.alpha_f == 0
 
     @property
-    def explicit(self):
-        """beta = 0 and alpha_f = 0: y_{n+1} does not depend on a_{n+1}, so
-        that for an F free of y' one evaluation solves the step."""
-        return self.beta == 0 and self.alpha_f == 0
-
-    @property
     def stability_limit(self):
-        """The largest omega h at which the step does not grow on y'' =
-        -omega^2 y: infinite where beta >= gamma/2 >= 1/4 (with the alpha
-        members' own conditions, alpha_m <= alpha_f <= 1/2 [3]_), else
-        1/sqrt(gamma/2 - beta) (gamma >= 1/2; Hughes [4]_, Sec. 9.1)."""
-        if self.alpha_m != 0 or self.alpha_f != 0:
-            stable = (self.alpha_m <= self.alpha_f <= Fraction(1, 2)
-                      and self.beta >= Fraction(1, 4) + (self.alpha_f - self.alpha_m) / 2)
-            return math.inf if stable else math.nan
-        gap = self.gamma / 2 - self.beta
-        return math.inf if gap <= 0 else 1.0 / math.sqrt(gap)
+        """The supremum of the omega h at which the step does not grow on
+        y'' = -omega^2 y (module docstring).  Newmark's members (gamma >=
+        1/2): infinite where beta >= gamma/2, else 1/sqrt(gamma/2 - beta)
+        (Hughes [4]_, Sec. 9.1).  The alpha members: infinite under Chung
+        and Hulbert's conditions [3]_ (gamma = 1/2 - alpha_m + alpha_f,
+        alpha_m <= alpha_f <= 1/2, beta >= 1/4 + (alpha_f - alpha_m)/2);
+        for any other record, the first omega h where the spectral radius
+        of the step's amplification matrix exceeds 1 (by 1e-9), found on a
+        grid to 1e6 and refined by bisection (0 when it grows at once)."""
+        am, af = self.alpha_m, self.alpha_f
+        if am == 0 and af == 0 and self.gamma >= Fraction(1, 2):
+            gap = self.gamma / 2 - self.beta
+            return math.inf if gap <= 0 else 1.0 / math.sqrt(gap)
+        if (self.gamma == Fraction(1, 2) - am + af and am <= af <= Fraction(1, 2)
+                and self.beta >= Fraction(1, 4) + (af - am) / 2):
+            return math.inf
+        return _first_growth(self)
 
     def error_constants(self):
-        """(c3y, c4y, c2yp, c3yp) of the module docstring, as Fractions."""
+        """(c3y, c4y, c2yp, c3yp) of the module docstring, as Fractions;
+        c4y and c3yp are None for the alpha members (not derived: module
+        docstring)."""
         b, g, d = self.beta, self.gamma, self.delta
-        return (Fraction(1, 6) - b - d / 2,
-                Fraction(1, 24) - (Fraction(1, 2) - b) * d * d / 2 - b * (1 + d) ** 2 / 2,
-                Fraction(1, 2) - g - d,
-                Fraction(1, 6) - (1 - g) * d * d / 2 - g * (1 + d) ** 2 / 2)
+        if d != 0 or self.alpha_f != 0:
+            return Fraction(1, 6) - b - d / 2, None, Fraction(1, 2) - g - d, None
+        return (Fraction(1, 6) - b, Fraction(1, 24) - b / 2, Fraction(1, 2) - g,
+                Fraction(1, 6) - g / 2)
 
     @property
     def interpolant(self):
@@ -171,13 +206,10 @@ class Member(namedtuple("Member", "name beta gamma alpha_m alpha_f")):
     def scheme(self):
         """The :class:`Scheme` the compiled steps read, each number the
         double nearest the exact one."""
-        c3y, c4y, c2yp, c3yp = (abs(c) for c in self.error_constants())
-        if self.delta != 0:
-            # a_n approximates y'' at t_n + delta h, a shift that changes
-            # with h: where the step changes, the jump of the third
-            # derivative measures the change of step, not the fourth.  The
-            # estimate keeps its leading term in h^3 y''' alone.
-            c4y, c3yp = Fraction(0), Fraction(0)
+        # The alpha members' estimate keeps its leading term in h^3 y'''
+        # alone (module docstring): no c4y, c3yp.
+        c3y, c4y, c2yp, c3yp = (Fraction(0) if c is None else abs(c)
+                                for c in self.error_constants())
         return Scheme(float(self.beta), float(self.gamma), float(self.alpha_m),
                       float(self.alpha_f), float(Fraction(1, 2) - self.beta),
                       float(1 - self.gamma), float(c3y), float(c4y), float(c2yp), float(c3yp),

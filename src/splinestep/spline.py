@@ -161,8 +161,10 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         on every path below but ``iteration="global"`` (the spline's only);
         ``order`` 4 and 6 compose the symmetric members (gamma = 1/2, no
         alpha).  The members other than the spline interpolate between
-        knots by the cubic Hermite of (y, y') and (y', y''); the alpha
-        members' y'' at a knot is their own acceleration a_n, not F there.
+        knots by the quintic Hermite through both knots' y, y' and y''
+        (``sol`` a :class:`HermiteSolution`); the alpha members' y'' at a
+        knot is their own acceleration a_n, not F there, and their
+        ``local_error_yp`` is NaN (their estimate is of y alone).
     mass : array_like, scipy.sparse matrix or vector, optional
         A constant mass matrix M: solve M y'' = F(t, y, y') (as structural
         codes write M y'' + C y' + K y = f(t): ``fun`` returns f - C y' - K

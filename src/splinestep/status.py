@@ -38,7 +38,8 @@ FAILURES = {
 }
 
 # What to try when a step fails, appended to the message.
-CONDITION = "h^2/6 |dF/dy| + h/2 |dF/dyp| < 1"
+CONDITION = ("beta h^2 |dF/dy| + gamma h |dF/dyp| < 1 (h^2/6 and h/2 for the spline; "
+             "times (1 - alpha_f)/(1 - alpha_m) for the alpha members)")
 # A sweep whose change shrinks by more than this factor per iteration
 # contracts too slowly to be worth more iterations.
 SLOW_SWEEP = 0.9
@@ -46,7 +47,7 @@ HINTS = {
     SINGULAR: " Try a smaller h: the step equation may have no solution at this h.",
     NON_FINITE: " The solution may blow up here, or the step may be too large.",
     DIVERGED: " Try a smaller h, or, after the fixed-point sweep, iteration=\"newton\" "
-              f"(the sweep converges only while {CONDITION}).",
+              f"(the sweep converges when {CONDITION}).",
 }
 
 
@@ -62,7 +63,7 @@ def not_converged_hint(rate, sweep):
                 "Try a smaller h: the step equation may have no solution near this guess.")
     if rate >= 1.0:
         return (f" The sweep did not contract (its change grew by a factor of about "
-                f"{rate:.3g} per iteration): it converges only while {CONDITION}. Try a "
+                f"{rate:.3g} per iteration): it converges when {CONDITION}. Try a "
                 "smaller h, or iteration=\"newton\".")
     if rate >= SLOW_SWEEP:
         return (f" The sweep contracted only slowly (its change shrank by a factor of about "

@@ -9,8 +9,19 @@ unknown (report eqs. 6-9),
     y'_new = y' + dt (y'' + z)/2,
     z      = F(t + dt, y_new, y'_new),
 
-Newmark's method with beta = 1/6, gamma = 1/2.  :func:`sweep_step` solves
-the step equation by the report's fixed-point sweep, :func:`newton_step` by
+Newmark's method with beta = 1/6, gamma = 1/2.  Every member of Newmark's
+family takes the same step with its own weights, read from the run's
+:class:`splinestep.members.Scheme` (in :class:`Iteration`):
+
+    y_new  = y + dt y' + dt^2 ((1/2 - beta) y'' + beta z),
+    y'_new = y' + dt ((1 - gamma) y'' + gamma z),
+    (1 - alpha_m) z + alpha_m y'' = F(t_new - alpha_f dt,
+                                      (1 - alpha_f) y_new + alpha_f y, ...),
+
+so that the steps solve z = G(z) = (F - alpha_m y'') / (1 - alpha_m) (F
+itself for Newmark's members) at the state where F is evaluated.
+:func:`sweep_step` solves the step equation by the report's fixed-point
+sweep z <- G(z), :func:`newton_step` by
 Newton's method; the settings travel as a :class:`Method` record, the
 vectors as a :class:`State`, Newton's kept matrices as :class:`Kept`;
 :func:`composed_step` chains it with the weights of a symmetric composition;
@@ -20,7 +31,8 @@ solve all knots at once (:mod:`splinestep.bvp`).  The one driver
 it calls the baselines' steps (:mod:`splinestep._explicit`).
 
 Newton's method is the simplified Newton of implicit Runge-Kutta codes
-(Hairer and Wanner's RADAU5): the matrix I - dt^2/6 dF/dy - dt/2 dF/dy' and
+(Hairer and Wanner's RADAU5): the matrix I - dG/dz (I - dt^2/6 dF/dy - dt/2
+dF/dy' for the spline) and
 its LU factors are kept across iterations and steps, and rebuilt only when
 the iteration contracts slowly (an update larger than :data:`SLOW_RATE`
 times the one before), when it fails, or when the step changed by more than
