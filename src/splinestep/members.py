@@ -30,8 +30,10 @@ are rational) and derives from them everything the solver reads:
 - :attr:`Member.interpolant`: what ``t_eval``, the events and ``sol`` read
   between knots: the spline's own C2 cubic for the report's member, whose
   knots it joins; for every other member the quintic Hermite through both
-  knots' (y, y', a) (C2; exact for a quintic, so between knots as accurate
-  as the knots it joins);
+  knots' (y, y', a) (C2; exact for a quintic: between knots its error is
+  that of the knots' y, y' and a it joins, so a member whose y' is less
+  accurate than its y, as Fox-Goodwin's on an oscillation, is less
+  accurate between knots than at them);
 - :meth:`Member.scheme`: the numbers the compiled steps read, a
   :class:`Scheme`.
 

@@ -179,9 +179,11 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         Not with ``iteration="global"``.
     iteration : {"fixed-point", "newton", "global"}
         How the step equation is solved.  "fixed-point" is the report's
-        scheme; it converges when h^2/6 |dF/dy| + h/2 |dF/dy'| < 1.
-        "newton" uses Newton's method with an LU solve of
-        I - h^2/6 dF/dy - h/2 dF/dy' (exact ``jac``, or finite differences
+        scheme; it converges when beta h^2 |dF/dy| + gamma h |dF/dy'| < 1
+        (h^2/6 and h/2 for the spline; times (1 - alpha_f)/(1 - alpha_m)
+        for the alpha members).  "newton" uses Newton's method with an LU
+        solve of I - beta h^2 dF/dy - gamma h dF/dy' (those weights again;
+        M - ... with ``mass``) (exact ``jac``, or finite differences
         at m evaluations of F), the matrix kept across iterations and steps
         and rebuilt when convergence slows (``reuse_jacobian``).  On a linear
         problem, with an exact ``jac``, its first iteration solves the step
