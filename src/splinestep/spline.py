@@ -153,8 +153,9 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         (:mod:`splinestep.members`): "spline" (the report's method, Newmark's
         linear acceleration, beta = 1/6, gamma = 1/2; the default),
         "average-acceleration" (1/4, 1/2), "fox-goodwin" (1/12, 1/2),
-        "central-difference" (0, 1/2), "hht" (Hilber-Hughes-Taylor, alpha =
-        0.1), "generalized-alpha" (Chung-Hulbert, rho_inf = 0.8), a pair
+        "central-difference" (0, 1/2), "hht" (Hilber-Hughes-Taylor with
+        alpha_f = 0.1 in Chung and Hulbert's convention, their alpha =
+        -0.1), "generalized-alpha" (Chung-Hulbert, rho_inf = 0.8), a pair
         (beta, gamma), or a record of :func:`splinestep.members.newmark`,
         :func:`~splinestep.members.hht` or
         :func:`~splinestep.members.generalized_alpha`.  Every member runs
@@ -175,7 +176,8 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         ``fun``), and Newton's matrix is M - gamma h dF/dy' - beta h^2
         dF/dy (times the alpha members' weights), built in Python from any
         ``jac``, sparse when M or the Jacobian is.  ``fun`` then runs as
-        plain Python (``res.path == "plain"``); ``res.ypp`` holds M^-1 F.
+        plain Python (``res.path == "plain"``); ``res.ypp`` holds M^-1 F
+        (the alpha members' own acceleration a_n, as without ``mass``).
         Not with ``iteration="global"``.
     iteration : {"fixed-point", "newton", "global"}
         How the step equation is solved.  "fixed-point" is the report's
