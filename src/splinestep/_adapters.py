@@ -63,7 +63,7 @@ from numba.core import cgutils
 from numba.core.errors import NumbaError
 from numba.extending import intrinsic, overload
 
-from ._base import Adapted, as_vector, float_pointer, wrong_length
+from ._base import Adapted, address_as, as_vector, float_pointer, wrong_length
 
 # The header's slots, after F's m values.
 INTERRUPT = 0      # set by the front door on Ctrl-C: the adapter stops the run
@@ -81,24 +81,10 @@ JAC_NOT_FINITE = 3  # jac returned a matrix with a value that is not finite
 INTERRUPTED = 4    # the run was interrupted (Ctrl-C)
 
 
-@intrinsic
-def int_pointer(typingctx, address):
-    """The integer ``address`` as a pointer to int64 (for ``numba.carray``)."""
-    signature = types.CPointer(types.int64)(types.int64)
-
-    def codegen(context, builder, sig, args):
-        return builder.inttoptr(args[0], context.get_value_type(sig.return_type))
-    return signature, codegen
-
-
-@intrinsic
-def void_pointer(typingctx, address):
-    """The integer ``address`` as a void pointer (``numba.carray`` with a dtype)."""
-    signature = types.voidptr(types.int64)
-
-    def codegen(context, builder, sig, args):
-        return builder.inttoptr(args[0], context.get_value_type(types.voidptr))
-    return signature, codegen
+# Integer addresses as pointers to int64, and as void pointers (numba.carray
+# with a dtype).
+int_pointer = address_as(types.CPointer(types.int64), "int_pointer")
+void_pointer = address_as(types.voidptr, "void_pointer")
 
 
 @intrinsic

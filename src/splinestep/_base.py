@@ -165,14 +165,18 @@ def _jacobian_compiled(jac, args, t, y, yp):
     return lambda jac, args, t, y, yp: jac(t, y, yp, *args)
 
 
-@intrinsic
-def float_pointer(typingctx, address):
-    """The integer ``address`` as a pointer to float64 (for ``numba.carray``)."""
-    signature = types.CPointer(types.float64)(types.int64)
+def address_as(pointer_type, name):
+    """A compiled function (an intrinsic named ``name``) that turns an
+    integer address into ``pointer_type`` (for ``numba.carray``)."""
+    def cast(typingctx, address):
+        def codegen(context, builder, sig, args):
+            return builder.inttoptr(args[0], context.get_value_type(sig.return_type))
+        return pointer_type(types.int64), codegen
+    cast.__name__ = cast.__qualname__ = name
+    return intrinsic(cast)
 
-    def codegen(context, builder, sig, args):
-        return builder.inttoptr(args[0], context.get_value_type(sig.return_type))
-    return signature, codegen
+
+float_pointer = address_as(types.CPointer(types.float64), "float_pointer")
 
 
 def check_state(y0, yp0):

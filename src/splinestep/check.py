@@ -79,6 +79,7 @@ from numba import njit
 
 from . import _base
 from ._base import FD_STEP
+from .members import amplification
 from .step import SPLINE
 
 # The estimated local error, as a fraction of the run's largest |y| (or
@@ -133,34 +134,6 @@ def jacobians(fun, jac, args, t, y, yp):
             value = fun(t, args_k[0].copy(), args_k[1].copy(), *args)
             d[:, k] = (np.atleast_1d(np.asarray(value, dtype=float)) - g) / step
     return fy, fyp, 2 * m + 1, 0
-
-
-def amplification(fy, fyp, h, sc=SPLINE):
-    """The matrix M of one step of size h of the member ``sc`` (a
-    :class:`splinestep.members.Scheme`) on y'' = fy y + fyp y': (y,
-    y')_{n+1} = M (y, y')_n for Newmark's members, whose y'' at a knot is F
-    there (the spline's eqs. 6-9), and (y, y', a)_{n+1} = M (y, y', a)_n for
-    the alpha members, whose acceleration a_n is a state of its own."""
-    m = fy.shape[0]
-    eye, zero = np.eye(m), np.zeros((m, m))
-    wy, wyp = sc.beta * h * h, sc.gamma * h
-    if sc.alpha_m == 0.0 and sc.alpha_f == 0.0:
-        p = np.hstack([fy, fyp])                               # y''_n = p (y, y')_n
-        base_y = np.hstack([eye, h * eye]) + (sc.y_start * h * h) * p
-        base_yp = np.hstack([zero, eye]) + (sc.yp_start * h) * p
-        k = eye - wy * fy - wyp * fyp
-        z = np.linalg.solve(k, fy @ base_y + fyp @ base_yp)     # y''_{n+1}
-        return np.vstack([base_y + wy * z, base_yp + wyp * z])
-    af, am = sc.alpha_f, sc.alpha_m
-    base_y = np.hstack([eye, h * eye, (sc.y_start * h * h) * eye])
-    base_yp = np.hstack([zero, eye, (sc.yp_start * h) * eye])
-    own_y, own_yp, own_a = (np.hstack([eye, zero, zero]), np.hstack([zero, eye, zero]),
-                            np.hstack([zero, zero, eye]))
-    k = (1.0 - am) * eye - (1.0 - af) * (wy * fy + wyp * fyp)
-    rhs = (-am * own_a + fy @ ((1.0 - af) * base_y + af * own_y)
-           + fyp @ ((1.0 - af) * base_yp + af * own_yp))
-    a = np.linalg.solve(k, rhs)                                  # a_{n+1}
-    return np.vstack([base_y + wy * a, base_yp + wyp * a, a])
 
 
 def growth(fy, fyp, h, sc=SPLINE):

@@ -99,19 +99,49 @@ absolute error constants (:meth:`Member.error_constants`), the error
 controller's exponent 1/order and the interpolant's code."""
 
 
+def amplification(fy, fyp, h, sc):
+    """The matrix M of one step of size h of the member ``sc`` (a
+    :class:`splinestep.members.Scheme`) on y'' = fy y + fyp y': (y,
+    y')_{n+1} = M (y, y')_n for Newmark's members, whose y'' at a knot is F
+    there (the spline's eqs. 6-9), and (y, y', a)_{n+1} = M (y, y', a)_n for
+    the alpha members, whose acceleration a_n is a state of its own (the
+    step-size check's linearised step, :mod:`splinestep.check`, and
+    :attr:`Member.stability_limit` where no formula holds)."""
+    import numpy as np
+    m = fy.shape[0]
+    eye, zero = np.eye(m), np.zeros((m, m))
+    wy, wyp = sc.beta * h * h, sc.gamma * h
+    if sc.alpha_m == 0.0 and sc.alpha_f == 0.0:
+        p = np.hstack([fy, fyp])                               # y''_n = p (y, y')_n
+        base_y = np.hstack([eye, h * eye]) + (sc.y_start * h * h) * p
+        base_yp = np.hstack([zero, eye]) + (sc.yp_start * h) * p
+        k = eye - wy * fy - wyp * fyp
+        z = np.linalg.solve(k, fy @ base_y + fyp @ base_yp)     # y''_{n+1}
+        return np.vstack([base_y + wy * z, base_yp + wyp * z])
+    af, am = sc.alpha_f, sc.alpha_m
+    base_y = np.hstack([eye, h * eye, (sc.y_start * h * h) * eye])
+    base_yp = np.hstack([zero, eye, (sc.yp_start * h) * eye])
+    own_y, own_yp, own_a = (np.hstack([eye, zero, zero]), np.hstack([zero, eye, zero]),
+                            np.hstack([zero, zero, eye]))
+    k = (1.0 - am) * eye - (1.0 - af) * (wy * fy + wyp * fyp)
+    rhs = (-am * own_a + fy @ ((1.0 - af) * base_y + af * own_y)
+           + fyp @ ((1.0 - af) * base_yp + af * own_yp))
+    a = np.linalg.solve(k, rhs)                                  # a_{n+1}
+    return np.vstack([base_y + wy * a, base_yp + wyp * a, a])
+
+
+
 def _first_growth(member, margin=1e-9):
     """The first omega h at which ``member``'s amplification matrix on y''
-    = -omega^2 y has a spectral radius above 1 + ``margin`` (numpy; a grid
-    of 2,000 points to 1e6, then bisection), inf if none there."""
+    = -omega^2 y (:func:`amplification`) has a spectral radius above 1 +
+    ``margin`` (a grid of 2,000 points to 1e6, then bisection), inf if none
+    there."""
     import numpy as np
-    b, g, am, af = (float(c) for c in (member.beta, member.gamma, member.alpha_m,
-                                       member.alpha_f))
+    sc, zero = member.scheme(), np.zeros((1, 1))
 
     def radius(x):
-        # M1 X_{n+1} = M0 X_n for X = (y, h y', h^2 a) (module docstring)
-        m1 = np.array([[1.0, 0.0, -b], [0.0, 1.0, -g], [(1 - af) * x * x, 0.0, 1 - am]])
-        m0 = np.array([[1.0, 1.0, 0.5 - b], [0.0, 1.0, 1 - g], [-af * x * x, 0.0, -am]])
-        return np.max(np.abs(np.linalg.eigvals(np.linalg.solve(m1, m0))))
+        return np.max(np.abs(np.linalg.eigvals(amplification(np.array([[-x * x]]), zero, 1.0,
+                                                             sc))))
     grid = np.concatenate([[0.0], np.geomspace(1e-6, 1e6, 2000)])
     above = [x for x in grid if radius(x) > 1.0 + margin]
     if not above:

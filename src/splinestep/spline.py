@@ -460,10 +460,10 @@ def run_spline(fun, jac, args, step, ctrl, start, output, max_iter, control=None
     :class:`splinestep.members.Member` the step takes (the spline's when
     None); ``mass`` a :class:`splinestep._linalg.Mass`, whose runs see
     M^-1 F as their F (a plain function) and build every Newton matrix in
-    Python, M - wy dF/dy - wyp dF/dy'.  The order is the composition's
-    (2, 4 or 6 for 1, 3 or 7 sub-steps)."""
+    Python, M - wy dF/dy - wyp dF/dy'.  The order is that of the
+    composition of :data:`COMPOSITIONS` with the step's number of sub-steps."""
     member = _member("spline") if member is None else member
-    order = {1: 2, 3: 4, 7: 6}[step.weights.size]
+    order = next(o for o, w in COMPOSITIONS.items() if len(w) == step.weights.size)
     t0, y0, yp0 = start
     t_eval, events, dense_output = output
     kind = None if jac is None else _base.check_jac(jac, t0, y0, yp0, args)

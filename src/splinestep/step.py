@@ -530,9 +530,13 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
             # The update G = (F - alpha_m y'') / (1 - alpha_m) (F itself for
             # Newmark's members) kept in row _G: ``g`` may be the loop's one
             # buffer, which the finite differences of a new matrix overwrite.
-            for k in range(m):
-                work[_G, k] = (g[k] - am * ypp[k]) / (1.0 - am)
-                scale_a = max(scale_a, abs(am * ypp[k]) / (1.0 - am))
+            if am == 0.0:
+                for k in range(m):
+                    work[_G, k] = g[k]
+            else:
+                for k in range(m):
+                    work[_G, k] = (g[k] - am * ypp[k]) / (1.0 - am)
+                    scale_a = max(scale_a, abs(am * ypp[k]) / (1.0 - am))
             if info[slot, 0] == 0.0:
                 fe, je, status = _build_matrix(fun, args, jac, at, s, work, lu_slot,
                                                piv_slot, info[slot], it, slot)
