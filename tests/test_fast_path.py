@@ -263,6 +263,52 @@ def test_ctrl_c_mid_solve_raises_keyboard_interrupt_and_the_process_goes_on(tmp_
     assert lines[1] == "alive 0 True"
 
 
+INTERRUPTED_EARLY = """
+import signal, sys, threading, time, numpy as np, splinestep
+from numba import njit
+@njit
+def f(t, y, yp):
+    return -y
+fun = f if sys.argv[1] == "compiled" else f.py_func
+splinestep.solve(fun, (0.0, 1.0), 1.0, 0.0, 0.1, t_eval=[1.0], check=False)
+start = time.perf_counter()
+splinestep.solve(fun, (0.0, 1.0), 1.0, 0.0, 0.1, t_eval=[1.0], check=False)
+setup = time.perf_counter() - start          # the front door's work before the loop runs
+
+def interrupt(*_):
+    raise KeyboardInterrupt
+
+signal.signal(signal.SIGALRM, interrupt)
+wrong = 0
+for k in range(1, 61):
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 2.0 * setup * k / 60)
+        splinestep.solve(fun, (0.0, 1e7), 1.0, 0.0, 0.1, t_eval=[1e7], check=False)
+    except KeyboardInterrupt:
+        pass
+    signal.setitimer(signal.ITIMER_REAL, 0.0)
+    res = splinestep.solve(fun, (0.0, np.pi), 1.0, 0.0, np.pi / 100)
+    wrong += res.status != 0 or not abs(res.y[0, -1] + 1.0) < 1e-3
+time.sleep(0.5)
+print(wrong, threading.active_count(), flush=True)
+"""
+
+
+@pytest.mark.parametrize("path", ["compiled", "plain"])
+def test_an_interrupt_anywhere_in_the_front_door_leaves_no_run_behind(tmp_path, path):
+    """An interrupt at 60 moments spread over twice the front door's own
+    work (checks, the loop's lookup, the worker's start): each run stops,
+    none keeps running, and the next solve is right.  (A run interrupted
+    inside ``Thread.start`` once went on writing into its freed buffer: the
+    next solve returned wrong values with status 0, or the process hung.)"""
+    script = tmp_path / "interrupted_early.py"
+    script.write_text(INTERRUPTED_EARLY)
+    out = subprocess.run([sys.executable, str(script), path], capture_output=True, text=True,
+                         timeout=120, env=dict(os.environ, PYTHONPATH=str(ROOT / "src")))
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["0", "1"]
+
+
 def test_ctrl_c_in_a_jupyter_kernel_interrupts_the_cell_and_the_kernel_survives():
     jupyter_client = pytest.importorskip("jupyter_client")
     manager, client = jupyter_client.manager.start_new_kernel(

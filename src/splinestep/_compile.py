@@ -621,32 +621,55 @@ def interruptible(call, buffer):
     Jupyter kernel, which survives.  In another thread (where no
     KeyboardInterrupt is delivered) ``call()`` runs where it is.  The
     worker runs in a copy of the caller's context (numpy's ``errstate`` is
-    one), and what ``call()`` raises is raised here."""
+    one), and what ``call()`` raises is raised here.
+
+    The interrupt may arrive at any bytecode of the main thread, even
+    inside ``Thread.start``, when it cannot be told whether the worker
+    exists.  So the worker holds the run's memory itself (``call``, whose
+    closure references the loop's arrays, and ``buffer``, which references
+    the packed ``args``): were it ever left running, it would stop at its
+    first evaluation, since the flag is set whenever the wait ends by an
+    exception, and write only into memory it keeps alive."""
     if threading.current_thread() is not threading.main_thread():
         return call()
     box = {}
+    done = threading.Event()
     context = contextvars.copy_context()   # numpy's errstate, among others
 
-    def target():
+    def target(call=call, buffer=buffer):   # the worker's own references
         try:
             box["out"] = context.run(call)
         except BaseException as error:   # re-raised in the caller's thread
             box["error"] = error
+        finally:
+            done.set()
 
     worker = threading.Thread(target=target, name="splinestep-run", daemon=True)
-    worker.start()
-    interrupted = False
-    while worker.is_alive():
-        try:
-            worker.join()
-        except KeyboardInterrupt:
-            interrupted = True
-            buffer.interrupt()
-    if interrupted:
-        raise KeyboardInterrupt("the run was interrupted")
+    try:
+        worker.start()
+        done.wait()
+    except BaseException as error:
+        buffer.interrupt()
+        _wait_quietly(worker, done)
+        if isinstance(error, KeyboardInterrupt):
+            raise KeyboardInterrupt("the run was interrupted") from None
+        raise
     if "error" in box:
         raise box["error"]
     return box["out"]
+
+
+def _wait_quietly(worker, done):
+    """Wait until a worker told to stop has stopped, through further
+    interrupts; not at all when it never started (an interrupt inside
+    ``Thread.start`` before the thread existed)."""
+    while True:
+        try:
+            if worker.ident is not None or worker.is_alive():
+                done.wait()
+            return
+        except KeyboardInterrupt:
+            continue
 
 
 def _type_key(value):
