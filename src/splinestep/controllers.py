@@ -93,8 +93,26 @@ SAFETY = 0.9
 MIN_FACTOR = 0.2
 MAX_FACTOR = 5.0
 FAILED_FACTOR = 0.25
+# The contraction a step of the error controller aims below: the sweep's
+# theta (its change's factor per sweep, which grows like h^2 on an
+# oscillation), and, for a conditionally stable member, STABLE_SAFETY of
+# its stability limit in the same measure (beta/(1 - alpha_m) (omega h)^2,
+# from Newton's matrix).  THETA_TARGET is the sweep's cost's minimum: on
+# an oscillation, theta = beta (omega h)^2, the sweeps per step grow like
+# 1/|log theta|, so the sweeps per unit time like 1/(sqrt(theta) |log
+# theta|), least at theta = e^-2 (measured on the chain: see
+# ``make bench``).  A failed step's next size is h sqrt(target / theta),
+# within [MIN_FACTOR / 2, FAILED_FACTOR] of h.
+THETA_TARGET = 0.5
+STABLE_SAFETY = 0.9
+# The driver remembers the largest contraction per h^2 its steps showed
+# (the sweep's measured theta sees only the modes its change holds, so the
+# fastest shows itself when a sweep fails there), fading by this factor per
+# step so that a stiffness the equation loses stops bounding the steps.
+STIFFNESS_MEMORY = 0.999
 
-Control = namedtuple("Control", "kind tf h n span first_step max_step max_steps eps rho0")
+Control = namedtuple("Control", "kind tf h n span first_step max_step max_steps eps rho0 "
+                                "theta_max")
 Control.__doc__ = """The controller's settings, one record (of numbers only)
 for every kind; its arrays (the given knots, atol, rtol) travel beside it as
 :class:`Vectors`.
@@ -107,6 +125,8 @@ span, first_step, max_step : ERROR: |tf - t0|, by which the local errors
     and the largest.
 max_steps : the most step attempts (every kind).
 eps, rho0 : REVERSIBLE: the step at rho = 1 and rho at the start.
+theta_max : ERROR: the contraction the steps aim below
+    (:func:`contraction_target`; inf: none).
 """
 
 Vectors = namedtuple("Vectors", "knots atol rtol")
@@ -119,19 +139,38 @@ _EMPTY = np.empty(0)
 def constant(tf, h, n, knots, max_steps):
     """The settings of the constant controller."""
     return (Control(CONSTANT, float(tf), float(h), int(n), 0.0, 0.0, 0.0, int(max_steps), 0.0,
-                    0.0), Vectors(np.asarray(knots, dtype=float), _EMPTY, _EMPTY))
+                    0.0, np.inf), Vectors(np.asarray(knots, dtype=float), _EMPTY, _EMPTY))
 
 
-def error_control(t0, tf, rtol, atol, first_step, max_step, max_steps):
-    """The settings of the error controller (rtol and atol of shape (m,))."""
+def error_control(t0, tf, rtol, atol, first_step, max_step, max_steps, theta_max=np.inf):
+    """The settings of the error controller (rtol and atol of shape (m,);
+    ``theta_max`` from :func:`contraction_target`)."""
     return (Control(ERROR, float(tf), 0.0, 0, abs(float(tf) - float(t0)), float(first_step),
-                    float(max_step), int(max_steps), 0.0, 0.0), Vectors(_EMPTY, atol, rtol))
+                    float(max_step), int(max_steps), 0.0, 0.0, float(theta_max)),
+            Vectors(_EMPTY, atol, rtol))
+
+
+def contraction_target(member, sweep):
+    """The contraction theta the error controller keeps the steps of
+    ``member`` (a :class:`splinestep.members.Member`) below: for the sweep
+    (``sweep``) THETA_TARGET; for a conditionally stable member with beta >
+    0, at most beta / (1 - alpha_m) (STABLE_SAFETY omega_lim h)^2, the
+    measure of Newton's matrix at STABLE_SAFETY of its stability limit
+    omega_lim (:attr:`splinestep.members.Member.stability_limit`; an
+    oscillation's omega h).  inf: no bound (central difference, whose
+    matrix holds no dF/dy, and the unconditionally stable members under
+    Newton)."""
+    target = THETA_TARGET if sweep else np.inf
+    limit, weight = member.stability_limit, float(member.beta / (1 - member.alpha_m))
+    if weight > 0.0 and np.isfinite(limit):
+        target = min(target, weight * (STABLE_SAFETY * float(limit)) ** 2)
+    return target
 
 
 def reversible(tf, eps, rho0, max_steps):
     """The settings of the time-reversible controller."""
     return (Control(REVERSIBLE, float(tf), 0.0, 0, 0.0, 0.0, 0.0, int(max_steps), float(eps),
-                    float(rho0)), Vectors(_EMPTY, _EMPTY, _EMPTY))
+                    float(rho0), np.inf), Vectors(_EMPTY, _EMPTY, _EMPTY))
 
 
 @njit(cache=True, inline="always")
@@ -245,21 +284,43 @@ def step_factor(norm, after_reject, exponent):
 
 
 @njit(cache=True)
-def judge(ctrl, vectors, sc, status, dt, dt_prev, jerks, y, yp, y_new, yp_new, after_reject):
+def judge(ctrl, vectors, sc, outcome, dt, dt_prev, jerks, y, yp, y_new, yp_new, memory):
     """The error controller's verdict on the member ``sc``'s step of size
-    ``dt`` (signed) that ended with ``status``: (accept, next size).
-    ``jerks`` holds the step's third derivative and that of the step before.  A step whose
-    equation failed is retried FAILED_FACTOR times smaller; one whose error
+    ``dt`` (signed): (accept, next size, memory).  ``outcome`` is the
+    step's (status, contraction theta): the sweep's measured theta, the
+    bound of Newton's matrix, NaN when unknown.  ``jerks`` holds the step's
+    third derivative and that of the step before; ``memory`` what the
+    controller keeps between steps, (the largest theta per h^2 seen, fading
+    by STIFFNESS_MEMORY per step; whether the last step was rejected),
+    (0, False) at the start.
+
+    A step whose equation failed is retried at h sqrt(theta_max / theta)
+    (:func:`contraction_target`), within [MIN_FACTOR / 2, FAILED_FACTOR] of
+    h, or FAILED_FACTOR times smaller when theta is unknown; one whose error
     norm exceeds 1 is retried smaller; an accepted one sets the next size
-    from the norm, within ``max_step``."""
+    from the norm, within ``max_step``.  Every next size is at most
+    sqrt(theta_max / stiffness), the remembered stiffness's: theta grows
+    like h^2 on an oscillation, so the steps stay where the sweep converges
+    and the member is stable instead of cycling between growth and failure
+    there."""
+    status, rate = outcome
+    stiffness, after_reject = memory
+    if rate > 0.0:
+        stiffness = max(stiffness * STIFFNESS_MEMORY, rate / (dt * dt))
+    bound = np.inf
+    if stiffness > 0.0 and ctrl.theta_max < np.inf:
+        bound = np.sqrt(ctrl.theta_max / stiffness)
     if status != OK:
-        return False, abs(dt) * FAILED_FACTOR
+        if bound < np.inf:
+            return (False, min(max(bound, 0.5 * MIN_FACTOR * abs(dt)), FAILED_FACTOR * abs(dt)),
+                    (stiffness, True))
+        return False, abs(dt) * FAILED_FACTOR, (stiffness, True)
     norm = error_norm(sc, dt, dt_prev, jerks[0], jerks[1], y, yp, y_new, yp_new, vectors.rtol,
                       vectors.atol, ctrl.span)
     factor = step_factor(norm, after_reject, sc.exponent)
     if not norm <= 1.0:
-        return False, abs(dt) * min(factor, 1.0)
-    return True, min(abs(dt) * factor, ctrl.max_step)
+        return False, min(abs(dt) * min(factor, 1.0), bound), (stiffness, True)
+    return True, min(abs(dt) * factor, ctrl.max_step, bound), (stiffness, False)
 
 
 def jump_estimates(t, ypp, method="spline"):

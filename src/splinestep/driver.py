@@ -411,7 +411,8 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
     nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
     direction = 1.0 if ctrl.tf > t0 else -1.0
     status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
-    last_rate, dt_prev, after_reject, done = np.nan, 0.0, False, False
+    last_rate, dt_prev, done = np.nan, 0.0, False
+    memory = (0.0, False)   # what the error controller keeps between steps (judge)
     n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
     if status == OK:
         status, nfev, n_eval, rho = _begin(fun, args, control, control_args, ctrl, t0, kind,
@@ -453,12 +454,11 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
                 for k in range(m):
                     jerk1[k] = (z[k] - ypp[k]) / dt
             if control_kind == ERROR:
-                keep, size = judge(ctrl, vectors, it.scheme, status, dt, dt_prev,
-                                   (jerk1, jerk0), y, yp, y_new, yp_new, after_reject)
-                after_reject = not keep
+                outcome = (status, rate if step_kind == SPLINE else np.nan)
+                keep, size, memory = judge(ctrl, vectors, it.scheme, outcome, dt, dt_prev,
+                                           (jerk1, jerk0), y, yp, y_new, yp_new, memory)
                 if not keep:
-                    n_rejected += int(status == OK)
-                    n_failed += int(status != OK)
+                    n_rejected, n_failed = n_rejected + (status == OK), n_failed + (status != OK)
                     status = OK
                     continue
             elif status != OK:
@@ -523,7 +523,7 @@ def _explicit_drive(fun, args, jac, control, control_args, method, ctrl, vectors
     nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
     direction = 1.0 if ctrl.tf > t0 else -1.0
     status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
-    last_rate, dt_prev, after_reject, done = np.nan, 0.0, False, False
+    last_rate, dt_prev, done = np.nan, 0.0, False
     n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
     if status == OK:
         status, nfev, n_eval, rho = _begin(fun, args, control, control_args, ctrl, t0, kind,
@@ -618,7 +618,8 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
     nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
     direction = 1.0 if ctrl.tf > t0 else -1.0
     status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
-    last_rate, dt_prev, after_reject, done = np.nan, 0.0, False, False
+    last_rate, dt_prev, done = np.nan, 0.0, False
+    memory = (0.0, False)   # what the error controller keeps between steps (judge)
     n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
     if status == OK:
         status, nfev, n_eval, rho = _begin(fun, args, control, control_args, ctrl, t0, kind,
@@ -648,12 +649,10 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
             if control_kind == ERROR:
                 for k in range(m):   # what judge reads (_estimate writes it too)
                     jerk1[k] = (z[k] - ypp[k]) / dt
-                keep, size = judge(ctrl, vectors, it.scheme, status, dt, dt_prev,
-                                   (jerk1, jerk0), y, yp, y_new, yp_new, after_reject)
-                after_reject = not keep
+                keep, size, memory = judge(ctrl, vectors, it.scheme, (status, rate), dt,
+                                           dt_prev, (jerk1, jerk0), y, yp, y_new, yp_new, memory)
                 if not keep:
-                    n_rejected += int(status == OK)
-                    n_failed += int(status != OK)
+                    n_rejected, n_failed = n_rejected + (status == OK), n_failed + (status != OK)
                     status = OK
                     continue
             elif status != OK:

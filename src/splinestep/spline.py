@@ -357,7 +357,8 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     if adaptive:
         ctrl = controllers.error_control(t0, tf, *_base.check_tolerances(
             opts["rtol"], opts["atol"], opts["first_step"], opts["max_step"],
-            opts["max_steps"], y0.size))
+            opts["max_steps"], y0.size), theta_max=controllers.contraction_target(
+                member, step.iteration.mode == FIXED_POINT))
         if ctrl[0].first_step > abs(tf - t0):
             raise ValueError(f"first_step = {ctrl[0].first_step:g} exceeds the span "
                              f"{abs(tf - t0):g} of t_span")

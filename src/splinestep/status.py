@@ -16,6 +16,8 @@ NON_FINITE = 2           # fun returned a value that is not finite
 BAD_SHAPE = 3            # fun returned an array of the wrong shape
 SINGULAR = 4             # the Newton matrix is singular
 DIVERGED = 5             # an iterate of y or y' is not finite
+GREW = 6                 # the sweep's change grew in two iterations in a row
+TOO_SLOW = 7             # the sweep contracts too slowly to converge in max_iter
 # The driver and its step-size controllers.
 STEP_TOO_SMALL = 10      # error control: the step fell below the rounding of t
 TOO_MANY_STEPS = 11      # max_steps step attempts made before the end
@@ -35,6 +37,8 @@ FAILURES = {
                "(expected shape ({m},))",
     SINGULAR: "the Newton matrix is singular or its solution is not finite",
     DIVERGED: "the iteration diverged (an iterate of y or y' is not finite)",
+    GREW: "the iteration diverged (its change grew in two iterations in a row)",
+    TOO_SLOW: "the iteration contracted too slowly to converge in {max_iter} iterations",
 }
 
 # What to try when a step fails, appended to the message.
@@ -98,7 +102,7 @@ def failure(code, max_iter, m, reason=None):
 def hint(code, rate, sweep):
     """The advice appended to the message of a step that failed with
     ``code`` (``rate`` and ``sweep`` as for :func:`not_converged_hint`)."""
-    if code == NOT_CONVERGED:
+    if code in (NOT_CONVERGED, GREW, TOO_SLOW):
         return not_converged_hint(rate, sweep)
     return HINTS.get(code, "")
 

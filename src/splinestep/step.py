@@ -44,6 +44,7 @@ References
    2nd ed., Springer (1996), Sec. IV.8 (simplified Newton iterations).
 """
 
+import math
 from collections import namedtuple
 
 import numpy as np
@@ -53,7 +54,7 @@ from numba.extending import register_jitable
 from ._base import FD_STEP, evaluate, jacobian, wrong_length
 from ._compile import external_matrix, external_solve
 from .members import MEMBERS
-from .status import BAD_SHAPE, DIVERGED, NON_FINITE, NOT_CONVERGED, OK, SINGULAR
+from .status import BAD_SHAPE, DIVERGED, GREW, NON_FINITE, NOT_CONVERGED, OK, SINGULAR, TOO_SLOW
 
 # The report's member, whose numbers the drivers that solve all knots at
 # once (splinestep.bvp) and the analysis read: the coefficients of the
@@ -85,6 +86,10 @@ PROBE_SIGN = 2654435761
 # fraction from the one the matrix was built for.
 SLOW_RATE = 0.5
 STEP_CHANGE = 0.2
+# The sweep's contraction theta is measured from changes above this
+# multiple of the state (w_max |dz| > THETA_FLOOR |state|): below it the
+# ratio of two changes is rounding's.
+THETA_FLOOR = 1e3 * EPS
 
 
 @njit(cache=True, error_model="numpy")
@@ -374,10 +379,17 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
     ``it.n_iter`` sweeps at most (exactly, when not ``it.until_converged``;
     ``it`` is an :class:`Iteration`).  On return ``z`` holds y'' at t_new and
     ``y_new``, ``yp_new`` the value and slope there (consistent with z).
-    Returns (status, nfev, njev, niter, rate); no Jacobian is evaluated
-    (njev = 0); ``rate`` is the estimated contraction per sweep of a step
-    that failed (:func:`contraction_rate`; NaN otherwise), which the run's
-    message reports.
+    Returns (status, nfev, njev, niter, theta); no Jacobian is evaluated
+    (njev = 0).  ``theta`` is the sweep's contraction, watched as Hairer and
+    Wanner's RADAU5 watches Newton's [1]_: the largest ratio of successive
+    changes above rounding (:data:`THETA_FLOOR`), NaN when fewer than two
+    were measured (a failed step then reports :func:`contraction_rate`).
+    The error controller bounds the next step by it
+    (:func:`splinestep.controllers.judge`), the run's message reports it.
+    The sweep gives up at once, not after ``it.n_iter`` sweeps, when two
+    ratios in a row are 1 or more, or when the latest ratio predicts more
+    sweeps than are left to bring the change even within ROUNDING_WINDOW
+    of the state.
 
     Converged when the change of the increments is at most tol times the
     state, or, once the change stops decreasing within ROUNDING_WINDOW of
@@ -397,7 +409,7 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
     status = NOT_CONVERGED if until_converged else OK
     nfev = 0
     niter = 0
-    first, last, probes = 0.0, np.inf, 0
+    first, last, probes, theta, ratio = 0.0, np.inf, 0, np.nan, np.nan
     for _ in range(it.n_iter):
         size = _trial(wy_e, wyp_e, z, y_new, yp_new, work)
         if not size < np.inf:
@@ -437,15 +449,29 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
                                                                 yp_new, ypp, am):
                     status = OK
                     break
+            if niter >= 2 and w_max * change > THETA_FLOOR * size:
+                # The contraction, watched: the largest ratio of successive
+                # changes above rounding (Hairer and Wanner's theta).
+                previous, ratio = ratio, change / last
+                theta = ratio if not theta >= ratio else theta
+                # Diverging, or too slow to reach even the rounding window
+                # in the iterations left: given up now, not after max_iter.
+                if w_max * change > ROUNDING_WINDOW * size:
+                    if ratio >= 1.0 and previous >= 1.0:
+                        status = GREW
+                        break
+                    if ratio < 1.0 and math.log(ROUNDING_WINDOW * size / (w_max * change)) \
+                            < (it.n_iter - niter) * math.log(ratio):
+                        status = TOO_SLOW
+                        break
             if niter == 1:
                 first = change
             last = change
-    rate = np.nan
     if status == OK:
         status = _finish(dt, z, y_new, yp_new, work, sc)
-    elif until_converged:
-        rate = contraction_rate(first, last, niter)
-    return status, nfev, 0, niter, rate
+    elif until_converged and not theta >= 0.0:
+        theta = contraction_rate(first, last, niter)
+    return status, nfev, 0, niter, theta
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -513,9 +539,8 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
         status = NOT_CONVERGED if until_converged else OK
         if info[slot, 0] != 0.0 and abs(dt - info[slot, 1]) > STEP_CHANGE * abs(info[slot, 1]):
             info[slot, 0] = 0.0
-        fresh = False        # the matrix was built during this step
-        last_change = np.inf
-        n_attempt = 0
+        # fresh: the matrix was built during this step
+        fresh, last_change, n_attempt = False, np.inf, 0
         for _ in range(it.n_iter):
             size = _trial(wy_e, wyp_e, z, y_new, yp_new, work)
             if not size < np.inf:
@@ -592,6 +617,8 @@ def newton_step(fun, args, jac, t_new, dt, s, it, kept, slot):
                 break
         if status == OK:
             status = _finish(dt, z, y_new, yp_new, work, sc)
+            # the matrix's contraction bound at this step's size (judge's theta)
+            rate = info[slot, 2] * (dt / info[slot, 1]) ** 2 if info[slot, 1] != 0.0 else rate
         elif until_converged:
             rate = contraction_rate(first, last_change, n_attempt)
         if status != OK:
