@@ -1,5 +1,7 @@
 """The stepper's defining properties, each against an independent formula."""
 
+import warnings
+
 import numpy as np
 import pytest
 from scipy.optimize import fsolve
@@ -112,11 +114,18 @@ def test_phase_error_matches_closed_form(x):
 
 
 def test_unstable_beyond_sqrt12():
+    """Past omega h = sqrt(12) the solution grows by orders of magnitude: a
+    failure, whose message names omega h, estimated from the growth of one
+    linearised step (the inverse of the amplification factor)."""
     x = np.sqrt(12) * 1.01
     problem = problems.harmonic(x / 0.1, t_span=(0, 20), h=0.1)
-    with pytest.warns(UserWarning, match="past the method's stability limit"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
         res = problem.solve("spline", iteration="newton")
     assert np.max(np.abs(res.y)) > 1e3
+    assert res.status == -1 and not res.success and "blew up" in res.message
+    assert f"estimated omega h = {x:.3g}, past its stability limit omega h = 3.464" \
+        in res.message
 
 
 def test_fixed_point_diverges_beyond_sqrt6_where_newton_converges():

@@ -61,7 +61,12 @@ dense near its top) 30 Arnoldi steps find the fastest frequency 3e-4 to
 
 Either finding is a ``UserWarning`` and a sentence in the result's
 ``message``; the run keeps its status, since the numbers are what the
-method computed.
+method computed.  Except where they are not a solution at all: when the
+linearised step amplifies an equation that does not grow and the run's
+largest |y| exceeds :data:`BLOWN_UP` times its start's size, the run
+failed (status -1), and its message names the time, the step, the
+estimated omega h (the undamped oscillation on which one step grows as
+much) and the member's stability limit.
 
 References
 ----------
@@ -100,6 +105,11 @@ RATE_MARGIN = 0.01
 DENSE_UP_TO = 64
 KRYLOV_STEPS = 30
 RITZ = 4
+# A run whose largest |y| exceeds this many times its start's size (max
+# |y0|, and max |y'0| times the span) while the linearised step amplifies
+# an equation that does not grow has blown up: a failure (status -1), not
+# a warning.
+BLOWN_UP = 1e3
 
 
 def _jac_parts(jac, args, t, y, yp):
@@ -330,12 +340,57 @@ def report(result, run, fun, jac, args, start, member, enabled=True):
                 f"at the {where} state (t = {_base.short(t)}) one step of the linearised "
                 f"equation grows by {rho:.3g} where the equation grows by {rho_exact:.3g} "
                 + _limit(member))
+            start_size = max(np.max(np.abs(y0)), np.max(np.abs(yp0)) * abs(run.t_last - t0))
+            if rho_exact <= 1.0 and y_scale > BLOWN_UP * start_size:
+                _blown_up(result, member, t, h, rho, y_scale, start_size)
+                return
             break
     if findings:
         text = ("The step is too large for this solution: " + "; ".join(findings)
                 + ". Try a smaller h.")
         result.message = f"{result.message} {text}"
         warnings.warn(text, UserWarning, stacklevel=4)
+
+
+def _blown_up(result, member, t, h, rho, y_scale, start_size):
+    """Make ``result`` a failure: the solution grew by orders of magnitude
+    (its largest |y|, ``y_scale``, beyond BLOWN_UP times ``start_size``)
+    where the step ``h`` (at ``t``) amplifies by ``rho`` an equation that
+    does not grow."""
+    limit = member.stability_limit
+    omega_h = omega_h_of_growth(rho, member.scheme(), limit)
+    where = (f"estimated omega h = {omega_h:.3g}, past its stability limit omega h = "
+             f"{limit:.4g}"
+             if np.isfinite(omega_h) else _limit(member)[1:-1])
+    result.status, result.success = -1, False
+    result.message = (
+        f"The solution blew up: its largest |y| is {y_scale:.3g}, {y_scale / start_size:.2g} "
+        f"times its start's size, and at t = {_base.short(t)} a step h = {h:.3g} of "
+        f"{member.describe()} multiplies the linearised equation's solution by {rho:.3g} "
+        f"where the equation does not grow ({where}). Try a smaller h.")
+
+
+def omega_h_of_growth(rho, sc, limit):
+    """omega h of the undamped oscillation y'' = -omega^2 y on which one
+    step of the member ``sc`` (a :class:`splinestep.members.Scheme`) grows
+    by ``rho`` > 1, for a member stable up to ``limit`` (finite) and growing
+    beyond it; NaN otherwise."""
+    if not (np.isfinite(limit) and rho > 1.0):
+        return np.nan
+
+    def excess(omega_h):
+        matrix = amplification(np.array([[-omega_h ** 2]]), np.zeros((1, 1)), 1.0, sc)
+        return float(np.max(np.abs(np.linalg.eigvals(matrix)))) - rho
+
+    low, high = float(limit), 2.0 * float(limit)
+    while excess(high) < 0.0:
+        low, high = high, 2.0 * high
+        if high > 1e12:
+            return np.nan
+    for _ in range(100):
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if excess(middle) < 0.0 else (low, middle)
+    return 0.5 * (low + high)
 
 
 def _limit(member):

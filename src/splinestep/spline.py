@@ -532,7 +532,8 @@ def _solve_global(fun, t0, tf, y0, yp0, h, n, knots, t_eval, args, opts, dense_o
     else:   # the guess is not the method's solution: nothing of it is kept
         status, message, niter, nfev, njev = -1, (
             "The starting sweep (one fixed-point iteration per step) failed: "
-            f"{guess.message.split(' Returning')[0]} {hint.capitalize()}"), guess.niter, 0, 0
+            f"{guess.message.split(' Returning')[0].removesuffix(' Try a smaller h.')} "
+            f"{hint.capitalize()}"), guess.niter, 0, 0
     counts = (niter, nfev + guess.nfev, njev + int(jac is not None))
     if status != 0:
         return bvp.result(knots[:1], start, status,

@@ -1,0 +1,99 @@
+"""A run that blows up past its member's stability limit is a failure
+(status -1), with the time, the step, the estimated omega h and the limit in
+its message; and no run that does not blow up is called one.
+
+The estimated omega h is the undamped oscillation on which one step grows
+as much as the linearised step does; on y'' = -omega^2 y it is omega h
+itself, to the bisection's rounding."""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import splinestep
+from splinestep import problems
+from splinestep.check import BLOWN_UP, omega_h_of_growth
+from splinestep.members import MEMBERS, amplification
+
+
+def _quiet(*args, **kwargs):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return splinestep.solve(*args, **kwargs)
+
+
+@pytest.mark.parametrize("method, omega_h", [("spline", 3.5), ("spline", 4.0), ("spline", 6.0),
+                                             ("fox-goodwin", 2.6), ("fox-goodwin", 3.2)])
+def test_a_run_past_the_stability_limit_fails_and_names_omega_h(method, omega_h):
+    limit = MEMBERS[method].stability_limit
+    res = _quiet(lambda t, y, yp: -y, (0.0, 400.0 * omega_h), 1.0, 0.0, omega_h,
+                 iteration="newton", method=method)
+    assert res.status == -1 and not res.success
+    assert "blew up" in res.message and "t = 0 " in res.message
+    assert f"estimated omega h = {omega_h:.3g}, past its stability limit omega h = " \
+           f"{limit:.4g}" in res.message
+    assert np.max(np.abs(res.y)) > BLOWN_UP
+
+
+@pytest.mark.parametrize("method", ["spline", "fox-goodwin"])
+def test_omega_h_of_growth_inverts_the_amplification_factor(method):
+    sc = MEMBERS[method].scheme()
+    limit = MEMBERS[method].stability_limit
+    for omega_h in (1.001 * limit, 1.5 * limit, 10.0 * limit):
+        matrix = amplification(np.array([[-omega_h ** 2]]), np.zeros((1, 1)), 1.0, sc)
+        rho = np.max(np.abs(np.linalg.eigvals(matrix)))
+        assert omega_h_of_growth(rho, sc, limit) == pytest.approx(omega_h, rel=1e-9)
+    assert math.isnan(omega_h_of_growth(0.99, sc, limit))
+    assert math.isnan(omega_h_of_growth(2.0, MEMBERS["average-acceleration"].scheme(),
+                                        math.inf))
+
+
+def test_just_inside_the_limit_is_not_a_failure():
+    """At omega h = 3.4 (inside sqrt(12)) the spline's run is bounded: at
+    most a warning about its accuracy, never a failure."""
+    res = _quiet(lambda t, y, yp: -y, (0.0, 200.0), 1.0, 0.0, 3.4, iteration="newton")
+    assert res.status == 0 and np.max(np.abs(res.y)) <= 1.0 + 1e-9
+
+
+def test_an_equation_that_grows_is_not_a_failure():
+    """y'' = y grows by e^20 over (0, 20): the step follows the equation's
+    growth, which is not the step's instability.  (The relative error of a
+    second-order step on e^t grows like h^2 t / 12 to leading order.)"""
+    res = _quiet(lambda t, y, yp: y, (0.0, 20.0), 1.0, 1.0, 0.1)
+    assert res.status == 0
+    assert res.y[0, -1] == pytest.approx(math.exp(20.0), rel=0.1 ** 2 * 20.0 / 12.0)
+
+
+@pytest.mark.parametrize("iteration", ["fixed-point", "newton"])
+def test_no_false_failure_on_the_report_and_test_problems(iteration):
+    cases = [problems.cannonball(mu) for mu in problems.CANNONBALL_MU]
+    cases += [problems.rigid_body(), problems.harmonic(3.0), problems.eccentric(0.9),
+              problems.chain(50)]
+    for problem in cases:
+        res = _quiet(problem.fun, problem.t_span, problem.y0, problem.yp0, problem.h,
+                     args=problem.args, iteration=iteration)
+        assert res.status == 0, (problem, res.message)
+
+
+def test_no_false_failure_on_a_damped_chain_under_a_ground_motion_record():
+    """A Rayleigh-damped chain of 10 storeys driven by a ground acceleration
+    given as a record at dt = 0.01 (piecewise linear), stepped at the
+    record's dt: omega_max h is 0.3, far inside the limit; the run is a
+    success."""
+    m = 10
+    stiffness = (2 * np.eye(m) - np.eye(m, k=1) - np.eye(m, k=-1)) * 400.0
+    stiffness[-1, -1] = 400.0
+    damping = 0.05 * np.eye(m) + 0.002 * stiffness
+    rng = np.random.default_rng(7)
+    t_record = np.arange(0.0, 20.0001, 0.01)
+    record = np.convolve(rng.normal(size=t_record.size), np.ones(25) / 25, "same") * 3.0
+
+    def fun(t, y, yp):
+        return -stiffness @ y - damping @ yp - np.interp(t, t_record, record)
+
+    res = splinestep.solve(fun, (0.0, 20.0), np.zeros(m), np.zeros(m), 0.01)
+    assert res.status == 0 and "blew up" not in res.message
+    omega_max = math.sqrt(np.linalg.eigvalsh(stiffness).max())
+    assert omega_max * 0.01 < 0.5
