@@ -33,6 +33,7 @@ References
    caching", https://numba.readthedocs.io
 """
 
+import _thread
 import ast
 import contextlib
 import contextvars
@@ -611,6 +612,11 @@ def event_tracker(tracker):
         yield key
 
 
+# The main thread's wait on a run is cut into slices this long, at whose
+# ends Python runs the handlers of signals any thread received.
+POLL = 0.05
+
+
 def interruptible(call, buffer):
     """``call()``, the run of a compiled loop, made interruptible: in the
     main thread it runs in a worker thread while the main thread waits, so
@@ -623,17 +629,25 @@ def interruptible(call, buffer):
     worker runs in a copy of the caller's context (numpy's ``errstate`` is
     one), and what ``call()`` raises is raised here.
 
-    The interrupt may arrive at any bytecode of the main thread, even
-    inside ``Thread.start``, when it cannot be told whether the worker
-    exists.  So the worker holds the run's memory itself (``call``, whose
-    closure references the loop's arrays, and ``buffer``, which references
-    the packed ``args``): were it ever left running, it would stop at its
-    first evaluation, since the flag is set whenever the wait ends by an
-    exception, and write only into memory it keeps alive."""
+    The interrupt may arrive at any bytecode of the main thread, and the
+    signal itself at any thread of the process (the kernel may hand it to
+    the worker, which leaves the main thread asleep in its wait).  So the
+    main thread waits in slices of :data:`POLL` seconds, at whose ends
+    Python runs the handlers of the signals received; the worker is started
+    by ``_thread.start_new_thread``, one call with no Python-level lock to
+    be left held (``threading.Thread.start`` waits on an Event, whose lock
+    an interrupt can leave taken); it says that it has finished in ``box``,
+    not by a lock the main thread might already hold; and it holds the
+    run's memory itself (``call``, whose closure references the loop's
+    arrays, and ``buffer``, which references the packed ``args``): were it
+    ever left running, it would stop at its first evaluation, since the
+    flag is set whenever the wait ends by an exception, and write only into
+    memory it keeps alive."""
     if threading.current_thread() is not threading.main_thread():
         return call()
     box = {}
-    done = threading.Event()
+    finished = _thread.allocate_lock()
+    finished.acquire()
     context = contextvars.copy_context()   # numpy's errstate, among others
 
     def target(call=call, buffer=buffer):   # the worker's own references
@@ -642,34 +656,27 @@ def interruptible(call, buffer):
         except BaseException as error:   # re-raised in the caller's thread
             box["error"] = error
         finally:
-            done.set()
+            box["done"] = True
+            finished.release()
 
-    worker = threading.Thread(target=target, name="splinestep-run", daemon=True)
+    started = False
     try:
-        worker.start()
-        done.wait()
+        started = _thread.start_new_thread(target, ()) is not None
+        while not finished.acquire(timeout=POLL):
+            pass
     except BaseException as error:
         buffer.interrupt()
-        _wait_quietly(worker, done)
+        while started and "done" not in box:   # the worker ends at its next evaluation
+            try:
+                finished.acquire(timeout=POLL)
+            except KeyboardInterrupt:
+                pass
         if isinstance(error, KeyboardInterrupt):
             raise KeyboardInterrupt("the run was interrupted") from None
         raise
     if "error" in box:
         raise box["error"]
     return box["out"]
-
-
-def _wait_quietly(worker, done):
-    """Wait until a worker told to stop has stopped, through further
-    interrupts; not at all when it never started (an interrupt inside
-    ``Thread.start`` before the thread existed)."""
-    while True:
-        try:
-            if worker.ident is not None or worker.is_alive():
-                done.wait()
-            return
-        except KeyboardInterrupt:
-            continue
 
 
 def _type_key(value):
