@@ -184,6 +184,8 @@ COLUMNS = {
     "tolerance-cost": dict(rtol="exact", adaptive_nfev="adaptive", adaptive_error="adaptive",
                            n="adaptive", uniform_nfev="adaptive", uniform_error="adaptive",
                            interpolated_nfev="adaptive", ratio="adaptive"),
+    "check-alarms": dict(t0="exact", tf="exact", h="exact", status="exact",
+                         relative_error="error", warned="exact"),
     "newton-reuse": dict(status="exact", nfev="exact", njev="exact", nstep="exact",
                          niter="exact", error="error", flagged="exact"),
     "variable-step-energy": dict(orbit="exact", energy_error="error", nfev_per_orbit="exact"),

@@ -70,7 +70,33 @@ def cases():
                     lambda t: (t / (t + 10.0))[None], {}))
     out.append(("forced Duffing", duf.fun, duf.args, duf.t_span, duf.y0, duf.yp0,
                 (0.01, 0.1, 0.3, 0.6), None, {}))
+    ball, body = _problems.cannonball(0.6), _problems.rigid_body()
+    out.append(("cannonball mu = 0.6", ball.fun, ball.args, ball.t_span, ball.y0, ball.yp0,
+                tuple(ball.h * k for k in (1, 8, 32, 128)), lambda t: ball.exact(t)[0], {}))
+    out.append(("rigid body", body.fun, body.args, body.t_span, body.y0, body.yp0,
+                tuple(body.h * k for k in (1, 8, 32)), lambda t: body.exact(t)[0], {}))
+    fun, args, y0, yp0 = ground_motion_chain()
+    out.append(("chain under a ground-motion record", fun, args, (0.0, 10.0), y0, yp0,
+                (0.005, 0.01, 0.02, 0.04, 0.08), None, {}))
     return out
+
+
+def ground_motion_chain(m=10, interval=0.01, seed=7):
+    """(fun, args, y0, yp0) of a shear building of m storeys (storey
+    stiffness 400, unit masses, Rayleigh damping 0.05 M + 0.002 K) shaken
+    from rest by a ground acceleration given as a record at ``interval``
+    (white noise, standard deviation 3, linear between its samples): a
+    forcing with a kink at every sample, as a measured accelerogram has."""
+    stiffness = (2 * np.eye(m) - np.eye(m, k=1) - np.eye(m, k=-1)) * 400.0
+    stiffness[-1, -1] = 400.0
+    damping = 0.05 * np.eye(m) + 0.002 * stiffness
+    t_record = np.arange(0.0, 10.0 + interval / 2, interval)
+    record = 3.0 * np.random.default_rng(seed).normal(size=t_record.size)
+    return (_shaken, (stiffness, damping, t_record, record), np.zeros(m), np.zeros(m))
+
+
+def _shaken(t, y, yp, stiffness, damping, t_record, record):
+    return -stiffness @ y - damping @ yp - np.interp(t, t_record, record)
 
 
 def runs():
