@@ -242,18 +242,13 @@ print(f"full Newton / kept matrix: {full_over_kept.min():.0f} to {full_over_kept
 # %% [markdown]
 # ## Does the step-size check speak only when it should?
 # A fixed-step run warns when its step is too large for its solution (the
-# step-size check, `splinestep.check`).  Before it speaks from its
-# estimates it measures the local error of a few of the run's steps by step
-# halving; where the estimates exceed those measurements more than tenfold
-# (a forcing given as a table whose samples are the knots: each sample is a
-# kink, which the jump of $y'''$ reads as a large $y''''$ although the step
-# does not feel it), the estimates are scaled down by that factor first.
-# The study below (`splinestep.analysis.alarms`) runs eleven problems at
-# several fixed steps, forwards and backwards, against exact or Radau
-# solutions, among them a damped chain of ten storeys under a ground-motion
-# record given at intervals of 0.01.  A false alarm is a warning on a run
-# whose error is below 1 % of its solution's scale; a miss is silence on a
-# run off by more than 10 %.
+# step-size check, `splinestep.check`).  The study below
+# (`splinestep.analysis.alarms`) runs eleven problems at several fixed
+# steps, forwards and backwards, against exact or Radau solutions, among
+# them a damped chain of ten storeys under a ground-motion record given at
+# intervals of 0.01.  A false alarm is a warning on a run whose error is
+# below 1 % of its solution's scale; a miss is silence on a run off by more
+# than 10 %.
 
 # %%
 from splinestep.analysis import alarms
@@ -273,13 +268,18 @@ pd.DataFrame({"h": shown.h.map("{:.3g}".format),
              ).set_axis(pd.MultiIndex.from_frame(shown[["problem", "t0"]]))
 
 # %% [markdown]
-# The ground-motion chain at the record's interval and at half of it is
-# accurate and silent; at twice the interval the steps skip every other
-# sample, the run is far off, and it warns (the last run, at four times the
-# interval, fails: its sweep diverges).  Without the measurement by step
-# halving the two accurate runs warned: their summed estimates of $y'$
-# exceeded the solution's size although the runs are within a fraction of
-# a per cent.  The misses are the ones the estimates cannot see: orbits
-# (the Kepler orbit $e = 0.9$, the cannonball) whose drift amplifies the
-# error made at a periapsis passage, and a damped oscillator run backwards,
-# where damping turns into growth.
+# The two false alarms are the ground-motion chain at the record's interval
+# and at half of it: accurate to a fraction of a per cent, they warn because
+# every sample of the record is a kink of the forcing at a knot, which the
+# jump of $y'''$ reads as a large $y''''$ although the step does not feel
+# it.  At twice the interval the steps skip every other sample, the run is
+# far off, and it warns, as it does at four times (at eight times the run
+# fails: its sweep contracts too slowly).  Scaling the estimates down by
+# the ratio of a few steps' estimates to their local errors measured by
+# step halving silences the two false alarms, but also runs of a hardening
+# oscillator under such a record that are off by several per cent and
+# more: the check does
+# not correct itself that way.  The misses are the ones the estimates
+# cannot see: orbits (the Kepler orbit $e = 0.9$, the cannonball) whose
+# drift amplifies the error made at a periapsis passage, and a damped
+# oscillator run backwards, where damping turns into growth.

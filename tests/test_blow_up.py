@@ -97,3 +97,33 @@ def test_no_false_failure_on_a_damped_chain_under_a_ground_motion_record():
     assert res.status == 0 and "blew up" not in res.message
     omega_max = math.sqrt(np.linalg.eigvalsh(stiffness).max())
     assert omega_max * 0.01 < 0.5
+
+
+def test_a_run_from_rest_is_not_judged_a_blow_up():
+    """From rest the start's size is 0 and says nothing of the solution's:
+    y1'' = -y1 + sin t beside y2'' = -1e4 y2, whose mode is past the limit
+    at h = 0.04 (omega h = 4) but never excited, is accurate; it keeps the
+    step-size warning and its status 0."""
+    def fun(t, y, yp):
+        return np.array([-y[0] + math.sin(t), -1e4 * y[1]])
+
+    res = _quiet(fun, (0.0, 20.0), np.zeros(2), np.zeros(2), 0.04, iteration="newton")
+    assert res.status == 0 and "blew up" not in res.message
+    exact = 0.5 * (np.sin(res.t) - res.t * np.cos(res.t))   # resonance from rest
+    assert np.max(np.abs(res.y[0] - exact)) < 1e-2 * np.max(np.abs(exact))
+    assert np.all(res.y[1] == 0.0)
+
+
+@pytest.mark.parametrize("start", [1e-6, 1e-3])
+def test_a_small_start_that_grows_by_resonance_is_not_a_blow_up(start):
+    """The same pair from y1(0) = 1e-6 or 1e-3: y1 grows thousands of times
+    by resonance, accurately, beside the unexcited mode past the limit; one
+    more step does not grow the final state as the linearised step would,
+    so the run keeps its status 0."""
+    def fun(t, y, yp):
+        return np.array([-y[0] + math.sin(t), -1e4 * y[1]])
+
+    res = _quiet(fun, (0.0, 20.0), np.array([start, 0.0]), np.zeros(2), 0.04,
+                 iteration="newton")
+    assert res.status == 0 and "blew up" not in res.message
+    assert np.max(np.abs(res.y[0])) > BLOWN_UP * start

