@@ -367,7 +367,7 @@ def _grows_as_the_step(run, retake, rho):
     if retake is None or h == 0.0:
         return False
     try:
-        after = retake(run.t_last, run.y_end, run.yp_end, h, 1)
+        after = retake(run.t_last, run.y_end, run.yp_end, h)
     except Exception:  # a fun that fails here: nothing to judge by
         return False
     size = float(np.max(np.abs(run.y_end)))

@@ -494,16 +494,16 @@ def run_spline(fun, jac, args, step, ctrl, start, output, max_iter, control=None
                               interpolant=member.interpolant if order == 2 else None)
     if tracker is not None:
         tracker.attach(result)
-    # For a composition the jumps measure the local error of a spline step of
-    # size h, which overstates the composition's: the check still sees a step
-    # far too large for the solution, and no reasonable one.
-    def retake(t, y, yp, h, n):
-        """(y, y') at t + h after n steps of h / n from (t, y, y'), or None."""
-        again = run_spline(given, jac, args, step, controllers.constant(t + h, h / n, n, (), n),
+    def retake(t, y, yp, h):
+        """(y, y') at t + h after one more step of h from (t, y, y'), or None."""
+        again = run_spline(given, jac, args, step, controllers.constant(t + h, h, 1, (), 1),
                            (t, y, yp), (np.array([t + h]), None, False), max_iter,
                            check=False, member=member, mass=mass)
         return (again.y[:, -1], again.yp[:, -1]) if again.status == 0 else None
 
+    # For a composition the jumps measure the local error of a spline step of
+    # size h, which overstates the composition's: the check still sees a step
+    # far too large for the solution, and no reasonable one.
     _check.report(result, out, fun, None if mass is not None else jac, args, (t0, y0, yp0),
                   member, check, retake if order == 2 else None)
     return result
