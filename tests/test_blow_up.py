@@ -127,3 +127,46 @@ def test_a_small_start_that_grows_by_resonance_is_not_a_blow_up(start):
                  iteration="newton")
     assert res.status == 0 and "blew up" not in res.message
     assert np.max(np.abs(res.y[0])) > BLOWN_UP * start
+
+
+@pytest.mark.parametrize("adaptive", [False, True])
+def test_y_max_stops_a_run_at_the_first_knot_beyond_it(adaptive):
+    """With ``y_max`` a run stops, failed, at the first knot where |y|
+    exceeds the bound, checked or not and from rest too: the same run
+    without the bound shows where that knot is."""
+    p = problems.chain(20, omega_h=4.0, periods=2.0)
+    y0 = 1e-3 * np.sin(np.arange(20.0))
+    grid = {} if adaptive else {"h": p.h}
+    if adaptive:    # y'' = y grows as e^t: the error controller follows it
+        fun, span, y0, yp0 = (lambda t, y, yp: y), (0.0, 30.0), 1e-3 * np.ones(2), np.zeros(2)
+    else:           # past sqrt(12): the spline's step grows the fastest mode
+        fun, span, yp0 = p.fun, p.t_span, np.zeros(20)
+    kwargs = dict(args=() if adaptive else p.args, iteration="newton", check=False, **grid)
+    free = _quiet(fun, span, y0, yp0, **kwargs)
+    beyond = np.flatnonzero(np.max(np.abs(free.y), axis=0) > 1e3)[0]
+    res = _quiet(fun, span, y0, yp0, y_max=1e3, **kwargs)
+    assert res.status == -1 and not res.success
+    assert res.t[-1] == free.t[beyond - 1]
+    assert f"The run stopped at t = {free.t[beyond]:.10g}: |y| exceeded y_max = 1000" \
+        in res.message
+    assert np.array_equal(res.y, free.y[:, :beyond])
+
+
+def test_a_bound_the_run_stays_below_changes_nothing():
+    kwargs = dict(h=0.05, iteration="newton")
+    free = splinestep.solve(lambda t, y, yp: -y, (0.0, 20.0), 1.0, 0.0, **kwargs)
+    bounded = splinestep.solve(lambda t, y, yp: -y, (0.0, 20.0), 1.0, 0.0, y_max=1.0 + 1e-6,
+                               **kwargs)
+    assert bounded.status == 0 and np.array_equal(bounded.y, free.y)
+
+
+@pytest.mark.parametrize("bad", [0, -1.0, "1", True, None, np.nan])
+def test_y_max_must_be_a_positive_number(bad):
+    with pytest.raises(ValueError, match="y_max must be a positive number"):
+        splinestep.solve(lambda t, y, yp: -y, (0.0, 1.0), 0.1, 0.0, h=0.1, y_max=bad)
+
+
+def test_y_max_below_the_start_is_refused():
+    with pytest.raises(ValueError, match=r"y_max = 0.5 is below the largest \|y0\|, 1"):
+        splinestep.solve(lambda t, y, yp: -y, (0.0, 1.0), [0.1, -1.0], [0.0, 0.0], h=0.1,
+                         y_max=0.5)

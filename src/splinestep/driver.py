@@ -69,9 +69,11 @@ from numba.extending import register_jitable
 from . import _compile
 from ._base import FD_STEP, evaluate, wrong_length
 from ._explicit import rk4_step, verlet_step
-from .controllers import CONSTANT, ERROR, REVERSIBLE, first_size, judge, propose
+from .controllers import (CONSTANT, ERROR, REVERSIBLE, first_size, judge, noise_weights,
+                          propose)
 from .result import HermiteSolution, SplineSolution, new_result, quintic_coefficients
-from .status import BAD_SHAPE, EVENT_FAILED, OK, OUT_OF_MEMORY, TERMINAL_EVENT, message
+from .status import (BAD_SHAPE, EVENT_FAILED, EXCEEDED, OK, OUT_OF_MEMORY, TERMINAL_EVENT,
+                     message)
 from .members import CUBIC, HERMITE, QUINTIC
 from .step import (FIXED_POINT, SPLINE as SPLINE_SCHEME, Iteration, Method, State,
                    _value_status, composed_step, local_errors, newton_call, step_state,
@@ -381,6 +383,15 @@ def _begin(fun, args, control, control_args, ctrl, t0, kind, vec, E, t_eval):
     return status, nfev, n_eval, rho
 
 
+@njit(cache=True, inline="always")
+def _exceeds(y, bound):
+    """Whether some |y_k| exceeds ``bound`` (or is NaN)."""
+    for k in range(y.shape[0]):
+        if not abs(y[k]) <= bound:
+            return True
+    return False
+
+
 def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving, start):
     """Step from t0 to ctrl.tf (module docstring); ``start`` is (t0,
     y0, y'0, F there), F evaluated (and counted) by the front door,
@@ -401,6 +412,7 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
     kept = step_state(m, max(np.max(method.slots), np.max(method.inside_slots)) + 1,
                       spline_steps and it.mode != FIXED_POINT and not it.sparse)
     stage, ev_out = np.empty((4, m)), np.empty((3, m))
+    noise = np.empty(m if control_kind == ERROR else 0)   # the sweep's weights (noise_weights)
     span = (min(t0, ctrl.tf), max(t0, ctrl.tf))
     work, velocity, jerk1, jerk0 = kept.work, stage[0], vec[_JERK1], vec[_JERK]
     # The records' numbers as plain locals: a field read from a record that
@@ -413,6 +425,7 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
     status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
     last_rate, dt_prev, done = np.nan, 0.0, False
     memory = (0.0, False)   # what the error controller keeps between steps (judge)
+    y_max = ctrl.y_max
     n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
     if status == OK:
         status, nfev, n_eval, rho = _begin(fun, args, control, control_args, ctrl, t0, kind,
@@ -434,8 +447,10 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
                 break
             dt = t_new - t
             if sweep:   # the hot path, inlined
+                if control_kind == ERROR:
+                    noise_weights(ctrl, vectors, it.scheme, dt, y, yp, noise)
                 status, fe, je, ni, rate = sweep_step(fun, args, t_new, dt, y, yp, ypp, z,
-                                                      y_new, yp_new, it, work)
+                                                      y_new, yp_new, it, work, noise)
             elif step_kind == SPLINE:
                 status, fe, je, ni, rate = newton_call(fun, args, jac, t_new, dt, s, it, kept,
                                                        0)
@@ -463,6 +478,9 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
                     continue
             elif status != OK:
                 fail_step = attempts
+                break
+            if y_max < np.inf and _exceeds(y_new, y_max):
+                status, fail_step = EXCEEDED, attempts
                 break
             if spline_steps:
                 largest = acc[_E_Y]
@@ -614,12 +632,14 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
     kept = step_state(m, 1, False)
     ev_out = np.empty((3, m))
     work = kept.work
+    noise = np.empty(m if control_kind == ERROR else 0)   # the sweep's weights (noise_weights)
     store, events = saving.store, saving.events
     nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
     direction = 1.0 if ctrl.tf > t0 else -1.0
     status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
     last_rate, dt_prev, done = np.nan, 0.0, False
     memory = (0.0, False)   # what the error controller keeps between steps (judge)
+    y_max = ctrl.y_max
     n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
     if status == OK:
         status, nfev, n_eval, rho = _begin(fun, args, control, control_args, ctrl, t0, kind,
@@ -642,8 +662,10 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
                 fail_step = attempts + 1
                 break
             dt = t_new - t
+            if control_kind == ERROR:
+                noise_weights(ctrl, vectors, it.scheme, dt, y, yp, noise)
             status, fe, je, ni, rate = sweep_step(fun, args, t_new, dt, y, yp, ypp, z,
-                                                  y_new, yp_new, it, work)
+                                                  y_new, yp_new, it, work, noise)
             nfev, njev, niter, attempts, last_status, last_rate = (
                 nfev + fe, njev + je, niter + ni, attempts + 1, status, rate)
             if control_kind == ERROR:
@@ -657,6 +679,9 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
                     continue
             elif status != OK:
                 fail_step = attempts
+                break
+            if y_max < np.inf and _exceeds(y_new, y_max):
+                status, fail_step = EXCEEDED, attempts
                 break
             largest = acc[_E_Y]
             acc = _estimate(acc, y_new, yp_new, z, ypp, jerk1, jerk0, dt, dt_prev, t,
@@ -771,7 +796,7 @@ def result_of(out, t_eval, max_iter, ctrl, reason=None, *, path, order=2, method
         rho=out.RHO[1:n].copy() if ctrl.kind == REVERSIBLE else None,
         method=method, order=order, path=path, status=status,
         message=message(out, max_iter, m, ctrl.max_steps, reason,
-                        sweep=iteration == FIXED_POINT))
+                        sweep=iteration == FIXED_POINT, y_max=ctrl.y_max))
     if dense_output and n >= 2:
         knots = (out.T[:n], *(out.K[:n, j] for j in range(3)))
         quintic = order > 2 if interpolant is None else interpolant != CUBIC

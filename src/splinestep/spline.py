@@ -293,6 +293,14 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         millisecond or so at m = 10 and 100.  False skips it: no warning
         and no evaluation (``local_error``, from the run itself, is still
         reported).
+    y_max : float
+        A bound on the solution: a run whose |y| exceeds ``y_max`` in any
+        component at a knot stops there, failed (status -1, the message
+        names the time), and returns the steps before it (default inf: no
+        bound).  Where the step-size check finds a blow-up it fails the run
+        too, but only a run that does not start from rest
+        (:mod:`splinestep.check`); the bound holds on every run, checked
+        or not.  Not with ``iteration="global"``.
 
     Returns
     -------
@@ -343,6 +351,9 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     t0, tf = _base.check_span(t_span, backward=True)
     y0, yp0 = _base.check_state(y0, yp0)
     opts = _options(options)
+    if np.max(np.abs(y0)) > opts["y_max"]:
+        raise ValueError(f"y_max = {opts['y_max']:g} is below the largest |y0|, "
+                         f"{np.max(np.abs(y0)):g}")
     adaptive = h is None and knots is None
     if not adaptive:
         h, n, knots = _base.check_grid(t0, tf, h, knots, opts["max_steps"])
@@ -358,7 +369,7 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         ctrl = controllers.error_control(t0, tf, *_base.check_tolerances(
             opts["rtol"], opts["atol"], opts["first_step"], opts["max_step"],
             opts["max_steps"], y0.size), theta_max=controllers.contraction_target(
-                member, step.iteration.mode == FIXED_POINT))
+                member, step.iteration.mode == FIXED_POINT), y_max=opts["y_max"])
         if ctrl[0].first_step > abs(tf - t0):
             raise ValueError(f"first_step = {ctrl[0].first_step:g} exceeds the span "
                              f"{abs(tf - t0):g} of t_span")
@@ -368,7 +379,7 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
                              f"{floor:.3g} of t_span (16 eps max(|t0|, |tf - t0|)): a step "
                              "that small does not change t reliably")
     else:
-        ctrl = controllers.constant(tf, h, n, knots, opts["max_steps"])
+        ctrl = controllers.constant(tf, h, n, knots, opts["max_steps"], opts["y_max"])
     weights, slots, inside, inside_slots = composition(order)
     step = step._replace(weights=weights, slots=slots, inside=inside, inside_slots=inside_slots)
     mass = None if opts["mass"] is None else _linalg.Mass(opts["mass"], y0.size)
@@ -378,7 +389,7 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
 
 _OPTIONS = dict(method="spline", mass=None, iteration="fixed-point", iterations=None, tol=1e-12, max_iter=50, jac=None,
                 rtol=1e-3, atol=1e-6, first_step=None, max_step=np.inf,
-                max_steps=_base.MAX_STEPS, reuse_jacobian=True, check=True)
+                max_steps=_base.MAX_STEPS, reuse_jacobian=True, check=True, y_max=np.inf)
 
 
 def _options(options):
@@ -387,6 +398,11 @@ def _options(options):
     opts = _base.check_options(options, _OPTIONS, "solve")
     opts["max_steps"] = _base.check_max_steps(opts["max_steps"])
     opts["check"] = _base.check_flag(opts["check"], "check")
+    y_max = opts["y_max"]
+    if (isinstance(y_max, (bool, np.bool_)) or not isinstance(y_max, (int, float, np.integer, np.floating))
+            or not y_max > 0):
+        raise ValueError(f"y_max must be a positive number (inf: no bound), got {y_max!r}")
+    opts["y_max"] = float(y_max)
     return opts
 
 

@@ -24,6 +24,7 @@ TOO_MANY_STEPS = 11      # max_steps step attempts made before the end
 TERMINAL_EVENT = 12      # a terminal event stopped the run (not a failure)
 EVENT_FAILED = 13        # an event function raised (re-raised by the front door)
 OUT_OF_MEMORY = 14       # storing every knot would take more memory than is free
+EXCEEDED = 15            # |y| exceeded the bound y_max at a knot
 RHO_NOT_POSITIVE = 20    # time-reversible steps: the control variable left (0, inf)
 
 CODES = {name: value for name, value in globals().items()
@@ -107,10 +108,10 @@ def hint(code, rate, sweep):
     return HINTS.get(code, "")
 
 
-def message(run, max_iter, m, max_steps, reason=None, sweep=False):
+def message(run, max_iter, m, max_steps, reason=None, sweep=False, y_max=float("inf")):
     """The result's message for the driver's output ``run``
     (:class:`splinestep.driver.Run`); ``sweep`` when its steps were solved
-    by the fixed-point sweep."""
+    by the fixed-point sweep, ``y_max`` the run's bound on |y|."""
     code = run.status
     if code == OK:
         return SUCCESS
@@ -129,6 +130,9 @@ def message(run, max_iter, m, max_steps, reason=None, sweep=False):
                 f"components stored, {run.n_knots * (3 * m + 2) * 8 / 2**30:.3g} GiB). Pass "
                 f"t_eval, without dense_output, to keep only the values at the times needed. "
                 f"{accepted}")
+    if code == EXCEEDED:
+        return (f"The run stopped at t = {short(run.t_fail)}: |y| exceeded y_max = "
+                f"{y_max:.6g} there. {accepted}")
     if code == RHO_NOT_POSITIVE:
         return (f"The control variable rho is not positive (or not finite) at "
                 f"t = {short(run.t_last)}: eps is too large for this control, or the control "

@@ -373,7 +373,7 @@ def contraction_rate(first, last, n):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
+def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work, noise):
     """One step from (y, y', y'') to t_new = t + dt by the report's
     fixed-point sweep z <- F(t_new, y_new(z), y'_new(z)) (eq. 9),
     ``it.n_iter`` sweeps at most (exactly, when not ``it.until_converged``;
@@ -394,7 +394,14 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
     Converged when the change of the increments is at most tol times the
     state, or, once the change stops decreasing within ROUNDING_WINDOW of
     the state, when the change is within ROUNDING_MULTIPLE times the
-    rounding level of F there (:func:`rounding_level`).
+    rounding level of F there (:func:`rounding_level`).  Under error
+    control ``noise`` holds weights w_k^2 (empty otherwise), and a sweep
+    that passes the test on the state goes on until the change e of z also
+    satisfies sqrt(mean_k w_k^2 e_k^2) <= 1, so that the error estimate,
+    which reads z through differences, reads the solution and not the
+    sweep's unfinished convergence
+    (:func:`splinestep.controllers.noise_weights`), or until the change
+    stops falling or the sweeps run out (then converged on the state).
 
     Inlined into the driver: this is its hot path, which ``make bench``
     holds against a C loop, so it takes its vectors one by one (a record
@@ -410,6 +417,7 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
     nfev = 0
     niter = 0
     first, last, probes, theta, ratio = 0.0, np.inf, 0, np.nan, np.nan
+    targeted, settled = noise.shape[0] > 0 and until_converged, False
     for _ in range(it.n_iter):
         size = _trial(wy_e, wyp_e, z, y_new, yp_new, work)
         if not size < np.inf:
@@ -424,12 +432,20 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
             break
         status = NOT_CONVERGED if until_converged else OK
         niter += 1
-        change = 0.0
+        change, spread = 0.0, 0.0
         if am != 0.0:   # (1 - alpha_m) z + alpha_m y'' = F
             for k in range(m):
                 gk = (g[k] - am * ypp[k]) / (1.0 - am)
                 change = max(change, abs(gk - z[k]))
+                if targeted:
+                    spread += noise[k] * (gk - z[k]) ** 2
                 z[k] = gk
+        elif targeted:
+            for k in range(m):
+                d = g[k] - z[k]
+                change = max(change, abs(d))
+                spread += noise[k] * d * d
+                z[k] = g[k]
         elif until_converged:
             for k in range(m):
                 change = max(change, abs(g[k] - z[k]))
@@ -439,8 +455,12 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
                 z[k] = g[k]
         if until_converged:
             if w_max * change <= it.tol * size:
-                status = OK
-                break
+                # Converged on the state; under error control on z too, or
+                # once the change stops falling (rounding).
+                settled = True
+                if not targeted or spread <= m or change >= last:
+                    status = OK
+                    break
             if (change >= last and probes < PROBES
                     and w_max * change <= ROUNDING_WINDOW * size):
                 probes += 1
@@ -467,6 +487,8 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
             if niter == 1:
                 first = change
             last = change
+    if settled and status == NOT_CONVERGED:
+        status = OK
     if status == OK:
         status = _finish(dt, z, y_new, yp_new, work, sc)
     elif until_converged and not theta >= 0.0:
@@ -690,13 +712,14 @@ def composed_step(fun, args, jac, t, t_new, s, method, kept, sub, span):
     t_sub = t
     _copy_state(s.y, s.yp, s.ypp, sub)
     if it.mode == FIXED_POINT:
+        no_noise = kept.work[0, :0]   # the sub-steps are not judged one by one
         for j in range(n_sub):
             t_next = t_new if j == n_sub - 1 else t_sub + weights[j] * dt
             if j > 0:
                 _copy_state(s.y_new, s.yp_new, s.z, sub)
             status, fe, je, n_it, rate = sweep_step(fun, args, t_next, t_next - t_sub, sub.y,
                                                     sub.yp, sub.ypp, s.z, s.y_new, s.yp_new, it,
-                                                    kept.work)
+                                                    kept.work, no_noise)
             nfev += fe
             niter += n_it
             if status != OK:
