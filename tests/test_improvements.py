@@ -252,6 +252,31 @@ def test_global_newton_gives_the_stepwise_solution(name):
     assert np.max(np.abs(whole.y - stepwise.y)) < 1e-10 * max(1.0, np.max(np.abs(stepwise.y)))
 
 
+def test_global_newton_converges_at_the_rounding_level_of_a_stiff_chain():
+    """On the chain of 300 masses the rounding level of F, about 4 (m + 1)^2
+    eps |y|, lies above tol = 1e-12 of the state: the global update stops
+    there, in two iterations, at the stepwise solution (once it stalled
+    near 6e-11 and ran out of iterations from m = 200 on)."""
+    p = problems.chain(300)
+    span = (0.0, 5 * p.h)
+    whole = splinestep.solve(p.fun, span, p.y0, p.yp0, p.h, args=p.args, jac=p.jac,
+                             iteration="global")
+    stepwise = splinestep.solve(p.fun, span, p.y0, p.yp0, p.h, args=p.args, jac=p.jac,
+                                iteration="newton")
+    assert whole.success and whole.niter <= 3, whole.message
+    # Both are the same equations solved to rounding: the chain's y'' is known
+    # to about 4 (m + 1)^2 eps |y| ~ 1e-10, y to h^2/6 of that.
+    assert np.max(np.abs(whole.y - stepwise.y)) < 1e-12
+
+
+def test_global_newton_beyond_the_memory_is_refused_before_it_starts():
+    p = problems.chain(10_000)
+    with pytest.raises(ValueError, match=r"iteration=\"global\" would need about 93.1 GiB for "
+                                         r"m = 10000 components over 1 step \(a dense"):
+        splinestep.solve(p.fun, (0.0, p.h), p.y0, p.yp0, p.h, args=p.args, jac=p.jac,
+                         iteration="global")
+
+
 def test_global_newton_that_does_not_converge_is_a_failure():
     problem = problems.cannonball(0.6)
     res = problem.solve(iteration="global", max_iter=1)

@@ -32,7 +32,7 @@ import numpy as np
 from . import _base, _compile
 from ._base import FD_STEP
 from .result import SplineSolution, new_result
-from .step import YP_START, YP_WEIGHT, Y_START, Y_WEIGHT, relations
+from .step import EPS, ROUNDING_MULTIPLE, YP_START, YP_WEIGHT, Y_START, Y_WEIGHT, relations
 
 
 class BadValue(ValueError):
@@ -180,11 +180,25 @@ def _system(t, U, F, Fy, Fyp, boundary):
     return residual, matrix
 
 
+def _rounding(F, Fy, Fyp, U):
+    """The rounding level of the collocation z = F at the iterate ``U``:
+    the largest eps (|dF/dy| |y| + |dF/dy'| |y'| + |F|) over the knots
+    (F is known no better at a state known to rounding), the level below
+    which an update of z cannot fall."""
+    level = (np.einsum("kij,kj->ki", np.abs(Fy), np.abs(U[:, 0]))
+             + np.einsum("kij,kj->ki", np.abs(Fyp), np.abs(U[:, 1])) + np.abs(F))
+    return EPS * float(np.max(level))
+
+
 def newton(fun, jac, args, t, U, boundary, tol, max_iter,
            hint="try a better y_guess or a finer mesh"):
     """Newton's method on the whole trajectory from the guess ``U``
     ((n+1, 3, m), overwritten).  Converged when the largest update is at
-    most ``tol`` times max(1, the largest |value|); ``hint`` ends the
+    most ``tol`` times max(1, the largest |value|), or within
+    ROUNDING_MULTIPLE times the rounding level of F (:func:`_rounding`; on
+    the chain of m masses that level, about 4 (m + 1)^2 eps |y|, passes
+    1e-12 of the state from m = 200 on), as the step's test
+    (:func:`splinestep.step.newton_step`); ``hint`` ends the
     message of a run that does not converge.
 
     Returns (status, message, niter, nfev, njev): status 0 converged, -1
@@ -216,7 +230,8 @@ def newton(fun, jac, args, t, U, boundary, tol, max_iter,
         if not np.all(np.isfinite(delta)):
             return -1, f"Newton iteration {it}: the update is not finite", it, *calls
         U += delta.reshape(U.shape)
-        if np.max(np.abs(delta)) <= tol * max(1.0, np.max(np.abs(U))):
+        if np.max(np.abs(delta)) <= max(tol * max(1.0, np.max(np.abs(U))),
+                                        ROUNDING_MULTIPLE * _rounding(F, Fy, Fyp, U)):
             return 0, "Newton's method converged on the whole trajectory.", it, *calls
     return -1, (f"Newton's method on the whole trajectory did not converge in {max_iter} "
                 f"iterations; {hint}."), max_iter, *calls

@@ -90,7 +90,7 @@ from numba import njit
 
 from .status import OK, RHO_NOT_POSITIVE, STEP_TOO_SMALL, TOO_MANY_STEPS
 from .members import member
-from .step import local_errors
+from .step import _NOISE, local_errors
 
 CONSTANT, ERROR, REVERSIBLE = 0, 1, 2
 
@@ -283,8 +283,8 @@ def error_norm(sc, dt, dt_prev, jerk_new, jerk_old, y, yp, y_new, yp_new, rtol, 
 
 
 @njit(cache=True)
-def noise_weights(ctrl, vectors, sc, dt, y, yp, out):
-    """Into ``out``: the weights w_k^2 by which the sweep of a step of size
+def noise_weights(ctrl, vectors, sc, dt, y, yp, work):
+    """Into ``work``'s row _NOISE, under error control (else nothing): the weights w_k^2 by which the sweep of a step of size
     ``dt`` from (y, y') judges whether its unknown z = y'' at the step's
     end is known well enough for the error estimate (:func:`error_norm`)
     that reads it.  The estimates read z through differences: an error e_k
@@ -297,6 +297,8 @@ def noise_weights(ctrl, vectors, sc, dt, y, yp, out):
     times the state in y, which leaves z an error up to omega^2 tol |y|:
     on the chain of 10,000 masses a floor of the estimate, near the
     tolerance, that no step size lowers."""
+    if ctrl.kind != ERROR:
+        return
     m = y.shape[0]
     a_y = ctrl.span * abs(dt) * (4.0 * sc.c4y + 2.0 * sc.c3y) / NOISE_SHARE
     a_yp = ctrl.span * (4.0 * sc.c3yp + 2.0 * sc.c2yp) / NOISE_SHARE
@@ -304,7 +306,7 @@ def noise_weights(ctrl, vectors, sc, dt, y, yp, out):
     for k in range(m):
         w_y = a_y / (atol[k] + rtol[k] * abs(y[k]))
         w_yp = a_yp / (atol[k] + rtol[k] * abs(yp[k]))
-        out[k] = 0.5 * (w_y * w_y + w_yp * w_yp)
+        work[_NOISE, k] = 0.5 * (w_y * w_y + w_yp * w_yp)
 
 
 @njit(cache=True)

@@ -384,12 +384,21 @@ def _begin(fun, args, control, control_args, ctrl, t0, kind, vec, E, t_eval):
 
 
 @njit(cache=True, inline="always")
-def _exceeds(y, bound):
-    """Whether some |y_k| exceeds ``bound`` (or is NaN)."""
-    for k in range(y.shape[0]):
-        if not abs(y[k]) <= bound:
-            return True
-    return False
+def _within(status, y, bound):
+    """``status``, or EXCEEDED when it is OK and some |y_k| exceeds
+    ``bound`` (or is NaN) while the bound is finite."""
+    if status == OK and bound < np.inf:
+        for k in range(y.shape[0]):
+            if not abs(y[k]) <= bound:
+                return EXCEEDED
+    return status
+
+
+@njit(cache=True, inline="always")
+def _jerk(z, ypp, dt, out):
+    """The step's third derivative (z - y'') / dt into ``out``."""
+    for k in range(z.shape[0]):
+        out[k] = (z[k] - ypp[k]) / dt
 
 
 def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving, start):
@@ -411,9 +420,7 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
     y, yp, ypp, y_new, yp_new, z = vec[_Y], vec[_YP], vec[_YPP], vec[_Y1], vec[_YP1], vec[_Z]
     kept = step_state(m, max(np.max(method.slots), np.max(method.inside_slots)) + 1,
                       spline_steps and it.mode != FIXED_POINT and not it.sparse)
-    stage, ev_out = np.empty((4, m)), np.empty((3, m))
-    noise = np.empty(m if control_kind == ERROR else 0)   # the sweep's weights (noise_weights)
-    span = (min(t0, ctrl.tf), max(t0, ctrl.tf))
+    stage, ev_out, span = np.empty((4, m)), np.empty((3, m)), (min(t0, ctrl.tf), max(t0, ctrl.tf))
     work, velocity, jerk1, jerk0 = kept.work, stage[0], vec[_JERK1], vec[_JERK]
     # The records' numbers as plain locals: a field read from a record that
     # holds arrays is not free inside the loop.
@@ -425,7 +432,6 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
     status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
     last_rate, dt_prev, done = np.nan, 0.0, False
     memory = (0.0, False)   # what the error controller keeps between steps (judge)
-    y_max = ctrl.y_max
     n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
     if status == OK:
         status, nfev, n_eval, rho = _begin(fun, args, control, control_args, ctrl, t0, kind,
@@ -447,10 +453,9 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
                 break
             dt = t_new - t
             if sweep:   # the hot path, inlined
-                if control_kind == ERROR:
-                    noise_weights(ctrl, vectors, it.scheme, dt, y, yp, noise)
+                noise_weights(ctrl, vectors, it.scheme, dt, y, yp, work)
                 status, fe, je, ni, rate = sweep_step(fun, args, t_new, dt, y, yp, ypp, z,
-                                                      y_new, yp_new, it, work, noise)
+                                                      y_new, yp_new, it, work)
             elif step_kind == SPLINE:
                 status, fe, je, ni, rate = newton_call(fun, args, jac, t_new, dt, s, it, kept,
                                                        0)
@@ -466,8 +471,7 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
             nfev, njev, niter, attempts, last_status, last_rate = (
                 nfev + fe, njev + je, niter + ni, attempts + 1, status, rate)
             if spline_steps and control_kind == ERROR:   # what judge reads (as _estimate)
-                for k in range(m):
-                    jerk1[k] = (z[k] - ypp[k]) / dt
+                _jerk(z, ypp, dt, jerk1)
             if control_kind == ERROR:
                 outcome = (status, rate if step_kind == SPLINE else np.nan)
                 keep, size, memory = judge(ctrl, vectors, it.scheme, outcome, dt, dt_prev,
@@ -476,11 +480,9 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
                     n_rejected, n_failed = n_rejected + (status == OK), n_failed + (status != OK)
                     status = OK
                     continue
-            elif status != OK:
+            status = _within(status, y_new, ctrl.y_max)
+            if status != OK:
                 fail_step = attempts
-                break
-            if y_max < np.inf and _exceeds(y_new, y_max):
-                status, fail_step = EXCEEDED, attempts
                 break
             if spline_steps:
                 largest = acc[_E_Y]
@@ -632,14 +634,12 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
     kept = step_state(m, 1, False)
     ev_out = np.empty((3, m))
     work = kept.work
-    noise = np.empty(m if control_kind == ERROR else 0)   # the sweep's weights (noise_weights)
     store, events = saving.store, saving.events
     nfev, njev, niter, attempts, accepted, n_rejected, n_failed = 0, 0, 0, 0, 0, 0, 0
     direction = 1.0 if ctrl.tf > t0 else -1.0
     status, t, t_new, fail_step, last_status, n_eval = _value_status(ypp0, m), t0, t0, 0, OK, 0
     last_rate, dt_prev, done = np.nan, 0.0, False
     memory = (0.0, False)   # what the error controller keeps between steps (judge)
-    y_max = ctrl.y_max
     n_knots, size, rho = 1, first_size(ctrl, atol, rtol, t0, y0, yp0), 0.0
     if status == OK:
         status, nfev, n_eval, rho = _begin(fun, args, control, control_args, ctrl, t0, kind,
@@ -662,26 +662,22 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
                 fail_step = attempts + 1
                 break
             dt = t_new - t
-            if control_kind == ERROR:
-                noise_weights(ctrl, vectors, it.scheme, dt, y, yp, noise)
+            noise_weights(ctrl, vectors, it.scheme, dt, y, yp, work)
             status, fe, je, ni, rate = sweep_step(fun, args, t_new, dt, y, yp, ypp, z,
-                                                  y_new, yp_new, it, work, noise)
+                                                  y_new, yp_new, it, work)
             nfev, njev, niter, attempts, last_status, last_rate = (
                 nfev + fe, njev + je, niter + ni, attempts + 1, status, rate)
-            if control_kind == ERROR:
-                for k in range(m):   # what judge reads (_estimate writes it too)
-                    jerk1[k] = (z[k] - ypp[k]) / dt
+            if control_kind == ERROR:   # what judge reads (_estimate writes it too)
+                _jerk(z, ypp, dt, jerk1)
                 keep, size, memory = judge(ctrl, vectors, it.scheme, (status, rate), dt,
                                            dt_prev, (jerk1, jerk0), y, yp, y_new, yp_new, memory)
                 if not keep:
                     n_rejected, n_failed = n_rejected + (status == OK), n_failed + (status != OK)
                     status = OK
                     continue
-            elif status != OK:
+            status = _within(status, y_new, ctrl.y_max)
+            if status != OK:
                 fail_step = attempts
-                break
-            if y_max < np.inf and _exceeds(y_new, y_max):
-                status, fail_step = EXCEEDED, attempts
                 break
             largest = acc[_E_Y]
             acc = _estimate(acc, y_new, yp_new, z, ypp, jerk1, jerk0, dt, dt_prev, t,

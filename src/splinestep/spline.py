@@ -196,13 +196,19 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         (:mod:`splinestep.bvp`), starting from one sweep per step; it gives
         the stepwise solution, without the step-size check (``local_error``
         is NaN, nothing warns), and a run whose starting sweep or Newton
-        iteration fails returns its initial state only.  It makes the
-        Jacobian dense, m x m blocks at every knot (O(n m^2) memory, a
-        dense LU per block), and tests convergence against ``tol`` alone,
-        not the rounding level: it is for small systems (on the chain of
-        masses, 10 steps at m = 100 take 0.7 s; at m = 200 the update
-        stalls near 6e-11, above the default tol's test); large systems
-        take the stepwise paths.
+        iteration fails returns its initial state only.  Its update
+        converges when it is at most ``tol`` times the state or within 8
+        times the rounding level of F, as the step's.  It makes the
+        Jacobian dense, m x m blocks at every knot: about
+        :data:`GLOBAL_BYTES` n m^2 bytes for n steps, and a run that would
+        need more than a fifth of the memory free is refused (ValueError).
+        On one processor it cannot pay: on the chain of masses, 10 steps
+        take about 1 s at m = 100 and 200 and 10 s at m = 400, and 100
+        steps at m = 200 take 23 s and 3.7 GiB, where ``"newton"`` with
+        the sparse jac takes about 0.01 s; at m = 10,000 a single step
+        would need 93 GiB.  It is the structure that parallel-in-time
+        methods distribute (:mod:`splinestep.bvp`); large systems take the
+        stepwise paths.
     iterations : int, optional
         Exactly this many iterations per step, with no convergence test
         (the report's "a few times").  By default iterate until converged.
@@ -387,6 +393,11 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
                       opts["max_iter"], check=opts["check"], member=member, mass=mass)
 
 
+# The memory of iteration="global" per step and per m^2 (its dense Jacobian
+# blocks, the sparse matrix of the whole trajectory and SuperLU's factors):
+# measured on the chain of masses, 980 bytes at m = 100 and 200.
+GLOBAL_BYTES = 1000
+
 _OPTIONS = dict(method="spline", mass=None, iteration="fixed-point", iterations=None, tol=1e-12, max_iter=50, jac=None,
                 rtol=1e-3, atol=1e-6, first_step=None, max_step=np.inf,
                 max_steps=_base.MAX_STEPS, reuse_jacobian=True, check=True, y_max=np.inf)
@@ -536,6 +547,15 @@ def _solve_global(fun, t0, tf, y0, yp0, h, n, knots, t_eval, args, opts, dense_o
     if knots.size == 0:
         knots = t0 + h * np.arange(n + 1)
         knots[-1] = tf
+    m, steps, free = y0.size, knots.size - 1, driver._free_memory()
+    need = GLOBAL_BYTES * steps * m * m
+    if free is not None and need > free / 5:
+        raise ValueError(
+            f"iteration=\"global\" would need about {need / 2**30:.3g} GiB for m = {m} "
+            f"components over {steps} step{'s' if steps != 1 else ''} (a dense m x m block "
+            f"at every knot: about {GLOBAL_BYTES} n m^2 bytes), more than a fifth of the memory free "
+            f"({free / 2**30:.3g} GiB); take iteration=\"newton\", the same solution one "
+            "step at a time in O(m) memory with a sparse jac")
     jac = opts["jac"]
     if jac is not None:
         _base.check_jac(jac, t0, y0, yp0, args)

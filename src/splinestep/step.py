@@ -145,7 +145,9 @@ def solve_linear(a, b):
 
 
 # Rows of the work array a step uses (allocated once per run, not per step).
-_BASE_Y, _BASE_YP, _G, _RESIDUAL, _OWN_Y, _OWN_YP = range(6)
+# _NOISE: the weights by which the sweep judges z for the error estimate
+# (splinestep.controllers.noise_weights; its first entry negative: none).
+_BASE_Y, _BASE_YP, _G, _RESIDUAL, _OWN_Y, _OWN_YP, _NOISE = range(7)
 
 State = namedtuple("State", "y yp ypp y_new yp_new z")
 State.__doc__ = """The vectors a step reads and writes: (y, y', y'') at the
@@ -153,7 +155,7 @@ start, and y, y' and z = y'' at the end (all of shape (m,))."""
 
 Kept = namedtuple("Kept", "work lu piv info")
 Kept.__doc__ = """What a driver allocates once for its steps
-(:func:`step_state`): a work array (6, m) and the kept Newton matrices, one
+(:func:`step_state`): a work array (7, m) and the kept Newton matrices, one
 per distinct sub-step of a composition: LU factors (slots, m, m), pivots
 (slots, m) and, per slot, [built?, the step it was built for, the sweep's
 contraction bound h^2/6 |dF/dy| + h/2 |dF/dy'| (max norm) read from it].  The LU
@@ -190,7 +192,9 @@ def step_state(m, slots, dense):
     """The :class:`Kept` buffers of a run of m components; the (m, m) LU
     factors only when ``dense`` (Newton with a dense matrix)."""
     n = m if dense else 0
-    return Kept(np.empty((6, m)), np.zeros((slots, n, n)), np.zeros((slots, m), dtype=np.int64),
+    work = np.empty((7, m))
+    work[_NOISE, :1] = -1.0   # no weights: the sweep converges on the state alone
+    return Kept(work, np.zeros((slots, n, n)), np.zeros((slots, m), dtype=np.int64),
                 np.zeros((slots, 3)))
 
 
@@ -373,7 +377,7 @@ def contraction_rate(first, last, n):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work, noise):
+def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
     """One step from (y, y', y'') to t_new = t + dt by the report's
     fixed-point sweep z <- F(t_new, y_new(z), y'_new(z)) (eq. 9),
     ``it.n_iter`` sweeps at most (exactly, when not ``it.until_converged``;
@@ -395,7 +399,7 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work, noi
     state, or, once the change stops decreasing within ROUNDING_WINDOW of
     the state, when the change is within ROUNDING_MULTIPLE times the
     rounding level of F there (:func:`rounding_level`).  Under error
-    control ``noise`` holds weights w_k^2 (empty otherwise), and a sweep
+    control ``work``'s row _NOISE holds weights w_k^2, and a sweep
     that passes the test on the state goes on until the change e of z also
     satisfies sqrt(mean_k w_k^2 e_k^2) <= 1, so that the error estimate,
     which reads z through differences, reads the solution and not the
@@ -417,7 +421,7 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work, noi
     nfev = 0
     niter = 0
     first, last, probes, theta, ratio = 0.0, np.inf, 0, np.nan, np.nan
-    targeted, settled = noise.shape[0] > 0 and until_converged, False
+    targeted, settled = m > 0 and work[_NOISE, 0] >= 0.0 and until_converged, False
     for _ in range(it.n_iter):
         size = _trial(wy_e, wyp_e, z, y_new, yp_new, work)
         if not size < np.inf:
@@ -438,13 +442,13 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work, noi
                 gk = (g[k] - am * ypp[k]) / (1.0 - am)
                 change = max(change, abs(gk - z[k]))
                 if targeted:
-                    spread += noise[k] * (gk - z[k]) ** 2
+                    spread += work[_NOISE, k] * (gk - z[k]) ** 2
                 z[k] = gk
         elif targeted:
             for k in range(m):
                 d = g[k] - z[k]
                 change = max(change, abs(d))
-                spread += noise[k] * d * d
+                spread += work[_NOISE, k] * d * d
                 z[k] = g[k]
         elif until_converged:
             for k in range(m):
@@ -712,14 +716,13 @@ def composed_step(fun, args, jac, t, t_new, s, method, kept, sub, span):
     t_sub = t
     _copy_state(s.y, s.yp, s.ypp, sub)
     if it.mode == FIXED_POINT:
-        no_noise = kept.work[0, :0]   # the sub-steps are not judged one by one
         for j in range(n_sub):
             t_next = t_new if j == n_sub - 1 else t_sub + weights[j] * dt
             if j > 0:
                 _copy_state(s.y_new, s.yp_new, s.z, sub)
             status, fe, je, n_it, rate = sweep_step(fun, args, t_next, t_next - t_sub, sub.y,
                                                     sub.yp, sub.ypp, s.z, s.y_new, s.yp_new, it,
-                                                    kept.work, no_noise)
+                                                    kept.work)
             nfev += fe
             niter += n_it
             if status != OK:
