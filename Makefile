@@ -17,7 +17,8 @@
 #                    them, a file with itself); RERUN=1 runs every notebook; JUNIT=1 writes each
 #                    test's seconds to build/junit.xml
 #   make bench       speed benchmark (compiled, plain Python, scipy, C) and cost against
-#                    the number of equations (benchmarks/scaling.py)
+#                    the number of equations (benchmarks/scaling.py), the error
+#                    controller on a stiff system (benchmarks/controller.py)
 #   make lab         JupyterLab at the repository root, .py <-> .ipynb pairs active
 #   make test-emulated   the tests with numpy's newer CPU kernels switched off, as on another CPU
 #   make opensees-reference   run OpenSees (openseespy, in a venv of its own under build/) on the
@@ -99,6 +100,7 @@ test-emulated: $(STAMP) $(FAST_IMPORT)
 bench: $(STAMP) $(FAST_IMPORT)
 	$(BIN)/python benchmarks/speed.py
 	$(BIN)/python benchmarks/scaling.py
+	$(BIN)/python benchmarks/controller.py
 
 # The reference trajectories from OpenSees (not a dependency of the package:
 # its own venv, its wheel pinned so that the data regenerate byte for byte;

@@ -212,8 +212,8 @@ tolerance.ratio_ranges(cost)
 # evaluations on the oscillator and 0.78 to 1.07 on the forced Duffing
 # oscillator: cheaper or about even.  They cost 1.21 to 5.06 times on the
 # pendulum (nearly even only at rtol $10^{-8}$) and 1.07 to 1.21 on the
-# rational problem.  On the Kepler orbit they cost 0.017 to 0.036 times
-# the uniform evaluations, a saving of 28 to 59 times (the largest at rtol
+# rational problem.  On the Kepler orbit they cost 0.018 to 0.036 times
+# the uniform evaluations, a saving of 28 to 57 times (the largest at rtol
 # $10^{-3}$, a chance of that run's final error: below).
 #
 # That verdict depends on how the uniform run solves each step.  Once the
@@ -296,7 +296,7 @@ pd.DataFrame({"uniform / adaptive, 1 sweep": (1 / one.ratio).round(1),
 # %% [markdown]
 # At equal final error the uniform step needs 47 to 49 times the
 # evaluations of the adaptive knots with one sweep per step on both sides,
-# and 28 to 59 times when both iterate to convergence.  With one sweep the
+# and 28 to 57 times when both iterate to convergence.  With one sweep the
 # ratio hardly changes with rtol.  Iterated it falls as the error falls,
 # from 33 at rtol $10^{-4}$ to 28 at $10^{-6}$: the iterated uniform run
 # needs fewer sweeps per step as its step shrinks (1.13 evaluations per step

@@ -453,7 +453,7 @@ def _drive(fun, args, jac, control, control_args, method, ctrl, vectors, saving,
                 break
             dt = t_new - t
             if sweep:   # the hot path, inlined
-                noise_weights(ctrl, vectors, it.scheme, dt, y, yp, work)
+                noise_weights(ctrl, vectors, it.scheme, dt, y, yp, work, memory[0])
                 status, fe, je, ni, rate = sweep_step(fun, args, t_new, dt, y, yp, ypp, z,
                                                       y_new, yp_new, it, work)
             elif step_kind == SPLINE:
@@ -662,7 +662,7 @@ def _sweep_drive(fun, args, jac, control, control_args, method, ctrl, vectors, s
                 fail_step = attempts + 1
                 break
             dt = t_new - t
-            noise_weights(ctrl, vectors, it.scheme, dt, y, yp, work)
+            noise_weights(ctrl, vectors, it.scheme, dt, y, yp, work, memory[0])
             status, fe, je, ni, rate = sweep_step(fun, args, t_new, dt, y, yp, ypp, z,
                                                   y_new, yp_new, it, work)
             nfev, njev, niter, attempts, last_status, last_rate = (

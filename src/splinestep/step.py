@@ -400,8 +400,8 @@ def sweep_step(fun, args, t_new, dt, y, yp, ypp, z, y_new, yp_new, it, work):
     the state, when the change is within ROUNDING_MULTIPLE times the
     rounding level of F there (:func:`rounding_level`).  Under error
     control ``work``'s row _NOISE holds weights w_k^2, and a sweep
-    that passes the test on the state goes on until the change e of z also
-    satisfies sqrt(mean_k w_k^2 e_k^2) <= 1, so that the error estimate,
+    that passes the test on the state goes on until its last change e of z
+    also satisfies sqrt(mean_k w_k^2 e_k^2) <= 1, so that the error estimate,
     which reads z through differences, reads the solution and not the
     sweep's unfinished convergence
     (:func:`splinestep.controllers.noise_weights`), or until the change
