@@ -92,9 +92,10 @@ print(outputs.wrapped(
 
 # %% [markdown]
 # After a start-up from $7.2 \times 10^{-6}$, the steps grow out towards
-# apoapsis, to 1.9 at $r = 16.13$, and shrink again to $2.1 \times 10^{-4}$
-# at the closing periapsis passage.  At apoapsis itself ($r = 19.00$) the
-# step drops to 0.65: the error norm weighs each velocity component by its
+# apoapsis, to 2.6 at $r = 17.84$, and shrink again towards the closing
+# periapsis passage (the last step, cut to end the period, is
+# $3.0 \times 10^{-4}$).  At apoapsis itself ($r = 19.00$) the
+# step drops to 0.56: the error norm weighs each velocity component by its
 # own size, and $x'$ passes through zero there.  Both, with the estimate
 # against the true local error, step by step:
 
@@ -164,7 +165,7 @@ spline_rows.groupby("problem", sort=False).apply(lambda g: pd.Series({
 # there is larger.
 #
 # It does not bound the error of $y'$: on the Kepler orbit its final error
-# reaches 6.62 times rtol times the largest $|y'|$, and 1.36 times on the
+# reaches 6.62 times rtol times the largest $|y'|$, and 1.28 times on the
 # rational problem.  Nor does it bound the error of $y$ with one sweep per
 # step on the pendulum (1.66 times), where one sweep adds an error of its
 # own that the estimate does not see.
@@ -203,7 +204,7 @@ tolerance.ratio_ranges(cost)
 # The matched runs reach the adaptive runs' errors to within 0.89 to 1.17:
 # the widest where the rational problem's coarsest matched runs take a few
 # steps, or where rounding over a million steps is part of the pendulum's
-# error at rtol $10^{-8}$.  The matched runs' evaluations are 0.95 to 1.03
+# error at rtol $10^{-8}$.  The matched runs' evaluations are 0.96 to 1.03
 # times those read off the dense curve: on a curve this dense, interpolating
 # would have done nearly as well.
 #
@@ -211,10 +212,10 @@ tolerance.ratio_ranges(cost)
 # first column), the adaptive knots cost 0.57 to 1.06 times the uniform
 # evaluations on the oscillator and 0.78 to 1.07 on the forced Duffing
 # oscillator: cheaper or about even.  They cost 1.21 to 5.06 times on the
-# pendulum (nearly even only at rtol $10^{-8}$) and 1.07 to 1.21 on the
-# rational problem.  On the Kepler orbit they cost 0.018 to 0.036 times
-# the uniform evaluations, a saving of 28 to 57 times (the largest at rtol
-# $10^{-3}$, a chance of that run's final error: below).
+# pendulum (nearly even only at rtol $10^{-8}$) and 1.07 to 1.14 on the
+# rational problem.  On the Kepler orbit they cost 0.027 to 0.036 times
+# the uniform evaluations, a saving of 28 to 37 times (the largest at rtol
+# $10^{-3}$).
 #
 # That verdict depends on how the uniform run solves each step.  Once the
 # oscillator's step is fine, an iterated step stops after 2 sweeps, and
@@ -222,7 +223,7 @@ tolerance.ratio_ranges(cost)
 # run with 2 sweeps the oscillator's knots cost 0.85 to 1.09, about even;
 # against 1 sweep, 1.65 to 2.16: the uniform step is cheaper.  Against one
 # sweep the uniform step is cheaper on each of the four problems other than
-# the Kepler orbit (1.20 to 4.22).  With one sweep on both sides, the cheapest form of
+# the Kepler orbit (1.20 to 4.13).  With one sweep on both sides, the cheapest form of
 # each (last column), the knots cost 1.07 to 2.11 times the uniform
 # evaluations on those four problems, and 0.020 to 0.021 on the orbit.
 
@@ -296,16 +297,13 @@ pd.DataFrame({"uniform / adaptive, 1 sweep": (1 / one.ratio).round(1),
 # %% [markdown]
 # At equal final error the uniform step needs 47 to 49 times the
 # evaluations of the adaptive knots with one sweep per step on both sides,
-# and 28 to 57 times when both iterate to convergence.  With one sweep the
+# and 28 to 37 times when both iterate to convergence.  With one sweep the
 # ratio hardly changes with rtol.  Iterated it falls as the error falls,
-# from 33 at rtol $10^{-4}$ to 28 at $10^{-6}$: the iterated uniform run
+# from 37 at rtol $10^{-3}$ to 28 at $10^{-6}$: the iterated uniform run
 # needs fewer sweeps per step as its step shrinks (1.13 evaluations per step
 # at the finest matched run), so the knots gain less where more accuracy is
-# asked.  The 59 at rtol $10^{-3}$ is a chance of that run: its final error
-# is several times smaller, relative to rtol, than at the other tolerances,
-# because the error of $y$ at the end changes sign near that rtol, and the
-# uniform run matched to it must be that much finer.  The errors of rtol $10^{-7}$ and
-# $10^{-8}$ would need more uniform steps than were run.
+# asked.  The errors of rtol $10^{-7}$ and $10^{-8}$ would need more
+# uniform steps than were run.
 
 # %% [markdown]
 # ### Where the knots should go

@@ -170,3 +170,16 @@ def test_y_max_below_the_start_is_refused():
     with pytest.raises(ValueError, match=r"y_max = 0.5 is below the largest \|y0\|, 1"):
         splinestep.solve(lambda t, y, yp: -y, (0.0, 1.0), [0.1, -1.0], [0.0, 0.0], h=0.1,
                          y_max=0.5)
+
+
+def test_the_global_iteration_refuses_y_max():
+    with pytest.raises(ValueError, match='iteration="global" takes no y_max'):
+        splinestep.solve(lambda t, y, yp: y, (0.0, 10.0), 1.0, 0.0, h=0.1, iteration="global",
+                         y_max=2.0)
+
+
+def test_a_run_stopped_at_y_max_keeps_its_message_when_the_check_sees_a_blow_up():
+    res = _quiet(lambda t, y, yp: -y, (0.0, 400.0), 1.0, 0.0, 4.0, iteration="newton",
+                 y_max=1e6)
+    assert res.status == -1 and "exceeded y_max = 1e+06" in res.message
+    assert "blew up" not in res.message and np.max(np.abs(res.y)) <= 1e6

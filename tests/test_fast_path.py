@@ -223,8 +223,11 @@ def test_an_object_mode_function_runs_on_the_plain_path():
 # 3. Interruptible ---------------------------------------------------------
 
 INTERRUPTED = """
-import sys, time, numpy as np, splinestep
+import signal, sys, time, numpy as np, splinestep
 from numba import njit
+# Ctrl-C as in a terminal: a job started in the background without job
+# control (make test &) passes SIGINT on ignored, and Python then keeps it so
+signal.signal(signal.SIGINT, signal.default_int_handler)
 @njit
 def f(t, y, yp):
     return -y

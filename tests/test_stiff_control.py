@@ -2,8 +2,8 @@
 fastest frequency omega_m = 2 (m + 1) sin(m pi / (2 (m + 1))) bounds the
 fixed-point sweep (it converges for omega_m h < sqrt 6, its contraction
 theta = (omega_m h)^2 / 6).  The controller keeps each step below the
-contraction the sweep has shown (THETA_TARGET = 1/2: omega_m h = sqrt 3),
-so the steps neither fail nor cycle, and the sweep under error control
+contraction the sweep has shown (THETA_TARGET: omega_m h = sqrt(6
+THETA_TARGET)), so the steps neither fail nor cycle, and the sweep under error control
 solves y'' well enough that the error estimate does not read its
 unfinished convergence (at m = 10,000 that floor once held omega_m h near
 0.45)."""
@@ -69,8 +69,9 @@ def test_the_step_count_does_not_tip_with_rounding(what):
 def test_the_error_estimate_does_not_read_the_sweeps_unfinished_convergence():
     """m = 10,000 started in motion (the exact state a quarter of the slow
     period in): the steps sit near the contraction the controller aims at,
-    omega_m h about sqrt 3, not at the 0.45 to which the sweep's residual in
-    y'', read by the error estimate as a fourth derivative, once held them;
+    omega_m h about sqrt(6 THETA_TARGET), not at the 0.45 to which the
+    sweep's residual in y'', read by the error estimate as a fourth
+    derivative, once held them;
     and the error at the end stays within the tolerance's scale."""
     m = 10_000
     p = problems.chain(m, periods=3.125)
@@ -81,6 +82,6 @@ def test_the_error_estimate_does_not_read_the_sweeps_unfinished_convergence():
     res = splinestep.solve(p.fun, span, y0, yp0, args=p.args, check=False, **TOL)
     assert res.success, res.message
     steps = np.diff(res.t) * omega
-    assert 1.2 < np.median(steps) < np.sqrt(6.0)
+    assert 0.9 * np.sqrt(6.0 * THETA_TARGET) < np.median(steps) < np.sqrt(6.0)
     exact = p.exact(np.array([span[1]]))[0][:, 0]
     assert np.max(np.abs(res.y[:, -1] - exact)) < TOL["rtol"] * np.max(np.abs(exact))

@@ -184,7 +184,7 @@ def _rounding(F, Fy, Fyp, U):
     """The rounding level of the collocation z = F at the iterate ``U``:
     the largest eps (|dF/dy| |y| + |dF/dy'| |y'| + |F|) over the knots
     (F is known no better at a state known to rounding), the level below
-    which an update of z cannot fall."""
+    which an update of z cannot be relied on to fall."""
     level = (np.einsum("kij,kj->ki", np.abs(Fy), np.abs(U[:, 0]))
              + np.einsum("kij,kj->ki", np.abs(Fyp), np.abs(U[:, 1])) + np.abs(F))
     return EPS * float(np.max(level))
@@ -197,8 +197,8 @@ def newton(fun, jac, args, t, U, boundary, tol, max_iter,
     most ``tol`` times max(1, the largest |value|), or within
     ROUNDING_MULTIPLE times the rounding level of F (:func:`_rounding`; on
     the chain of m masses that level, about 4 (m + 1)^2 eps |y|, passes
-    1e-12 of the state from m = 200 on), as the step's test
-    (:func:`splinestep.step.newton_step`); ``hint`` ends the
+    tol = 1e-12 of the largest value from about m = 150 on), a floor like
+    the step's (:func:`splinestep.step.newton_step`); ``hint`` ends the
     message of a run that does not converge.
 
     Returns (status, message, niter, nfev, njev): status 0 converged, -1

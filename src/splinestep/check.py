@@ -109,9 +109,11 @@ RITZ = 4
 # A run whose largest |y| exceeds this many times its start's size (max
 # |y0|, and max |y'0| times the span) while the linearised step amplifies
 # an equation that does not grow has blown up: a failure (status -1), not
-# a warning.  A run from rest (size 0) is not judged so: how large its
-# solution should be is not known (a mode that the step amplifies but that
-# is not excited stays at 0), and it keeps the warning.
+# a warning (a run that failed already, at ``y_max`` for one, keeps its
+# own message).  A run from the zero state (y0 = 0 and y'0 = 0: size 0) is
+# not judged so: how large its solution should be is not known (a mode
+# that the step amplifies but that is not excited stays at 0), and it
+# keeps the warning.
 BLOWN_UP = 1e3
 
 
@@ -344,8 +346,8 @@ def report(result, run, fun, jac, args, start, member, enabled=True, retake=None
                 f"equation grows by {rho:.3g} where the equation grows by {rho_exact:.3g} "
                 + _limit(member))
             start_size = max(np.max(np.abs(y0)), np.max(np.abs(yp0)) * abs(run.t_last - t0))
-            if (rho_exact <= 1.0 and start_size > 0.0 and y_scale > BLOWN_UP * start_size
-                    and _grows_as_the_step(run, retake, rho)):
+            if (result.status == 0 and rho_exact <= 1.0 and start_size > 0.0
+                    and y_scale > BLOWN_UP * start_size and _grows_as_the_step(run, retake, rho)):
                 _blown_up(result, member, t, h, rho, y_scale, start_size)
                 return
             break

@@ -103,20 +103,31 @@ FAILED_FACTOR = 0.25
 # The contraction a step of the error controller aims below: the sweep's
 # theta (its change's factor per sweep, which grows like h^2 on an
 # oscillation), and, for a conditionally stable member, STABLE_SAFETY of
-# its stability limit in the same measure (beta/(1 - alpha_m) (omega h)^2,
-# from Newton's matrix).  THETA_TARGET is the sweep's cost's minimum: on
-# an oscillation, theta = beta (omega h)^2, the sweeps per step grow like
-# 1/|log theta|, so the sweeps per unit time like 1/(sqrt(theta) |log
-# theta|), least at theta = e^-2 (measured on the chain: see
-# ``make bench``).  A failed step's next size is h sqrt(target / theta),
-# within [MIN_FACTOR / 2, FAILED_FACTOR] of h.
-THETA_TARGET = 0.5
+# its stability limit in the same measure ((1 - alpha_f) beta/(1 - alpha_m)
+# (omega h)^2, from Newton's matrix).  THETA_TARGET is near the sweep's
+# least cost measured on the chain of masses (the speed page's span, rtol
+# 1e-3, atol 1e-8, a memory of 0.999 below): evaluations at m = 1,000 and
+# 3,000 of 35,056 and 78,831 at a target of 0.135, 31,203 and 70,432 at
+# 0.25, 29,277 and 101,033 at 0.5, 49,454 and 141,546 at 0.7.  On an
+# oscillation theta =
+# beta (omega h)^2 and the sweeps per step grow like 1/|log theta|, so the
+# sweeps per unit time like 1/(sqrt(theta) |log theta|), least at theta =
+# e^-2; but the measured theta under-reads the fastest mode (the steps
+# overshoot the target), and the sweeps that make y'' accurate enough for
+# the error estimate (:func:`noise_weights`) cost more as theta grows.  A
+# failed step's next size is h sqrt(target / theta), within
+# [MIN_FACTOR / 2, FAILED_FACTOR] of h.
+THETA_TARGET = 0.25
 STABLE_SAFETY = 0.9
 # The driver remembers the largest contraction per h^2 its steps showed
 # (the sweep's measured theta sees only the modes its change holds, so the
 # fastest shows itself when a sweep fails there), fading by this factor per
-# step so that a stiffness the equation loses stops bounding the steps.
-STIFFNESS_MEMORY = 0.999
+# step so that a stiffness the equation loses stops bounding the steps
+# (a half-life of about 70 steps: on the chain of masses 0.99 and 0.999
+# cost the same, 30,992 and 31,203 evaluations at m = 1,000; on the Kepler
+# orbit e = 0.9, 0.999 held the steps near apoapsis to the stiffness of the
+# inner orbit).
+STIFFNESS_MEMORY = 0.99
 # The share of the error norm the sweep's unfinished convergence may take
 # (:func:`noise_weights`).
 NOISE_SHARE = 0.1
@@ -137,7 +148,7 @@ max_steps : the most step attempts (every kind).
 eps, rho0 : REVERSIBLE: the step at rho = 1 and rho at the start.
 theta_max : ERROR: the contraction the steps aim below
     (:func:`contraction_target`; inf: none).
-y_max : every kind: a run whose |y| exceeds it at a knot stops there,
+y_max : CONSTANT and ERROR (REVERSIBLE: inf): a run whose |y| exceeds it at a knot stops there,
     failed (inf: no bound; ``solve(..., y_max=...)``).
 """
 
@@ -168,14 +179,16 @@ def contraction_target(member, sweep):
     """The contraction theta the error controller keeps the steps of
     ``member`` (a :class:`splinestep.members.Member`) below: for the sweep
     (``sweep``) THETA_TARGET; for a conditionally stable member with beta >
-    0, at most beta / (1 - alpha_m) (STABLE_SAFETY omega_lim h)^2, the
+    0, at most (1 - alpha_f) beta / (1 - alpha_m) (STABLE_SAFETY omega_lim
+    h)^2, the
     measure of Newton's matrix at STABLE_SAFETY of its stability limit
     omega_lim (:attr:`splinestep.members.Member.stability_limit`; an
     oscillation's omega h).  inf: no bound (central difference, whose
     matrix holds no dF/dy, and the unconditionally stable members under
     Newton)."""
     target = THETA_TARGET if sweep else np.inf
-    limit, weight = member.stability_limit, float(member.beta / (1 - member.alpha_m))
+    limit = member.stability_limit
+    weight = float((1 - member.alpha_f) * member.beta / (1 - member.alpha_m))
     if weight > 0.0 and np.isfinite(limit):
         target = min(target, weight * (STABLE_SAFETY * float(limit)) ** 2)
     return target
@@ -286,23 +299,31 @@ def error_norm(sc, dt, dt_prev, jerk_new, jerk_old, y, yp, y_new, yp_new, rtol, 
 
 @njit(cache=True)
 def noise_weights(ctrl, vectors, sc, dt, y, yp, work, stiffness):
-    """Into ``work``'s row _NOISE, under error control (else nothing): the weights w_k^2 by which the sweep of a step of size
-    ``dt`` from (y, y') judges whether its unknown z = y'' at the step's
-    end is known well enough for the error estimate (:func:`error_norm`)
-    that reads it.  The estimates read z through differences: an error e_k
-    in z_k enters the jump of y''' as up to 4 e_k / h and y''' as 2 e_k /
-    h, so the estimates per unit step as span e_k (4 c3yp + 2 c2yp) (of y')
-    and span |h| e_k (4 c4y + 2 c3y) (of y), whatever the step.  The sweep
-    iterates until those terms' norm, sqrt(mean_k w_k^2 e_k^2), is at most 1
-    (NOISE_SHARE of the tolerance), with e_k the error of z_k its last
-    change c_k leaves, theta / (1 - theta) c_k for a contraction theta, here
-    the run's remembered ``stiffness`` (:func:`judge`) times h^2, at most
-    1/2 (or until the change stops falling, at rounding).  Where no
-    contraction was measured (the changes all below rounding: a mild
-    equation), nothing is asked beyond the test on the state.  Without it the sweep stops at tol
-    times the state in y, which leaves z an error up to omega^2 tol |y|:
-    on the chain of 10,000 masses a floor of the estimate, near the
-    tolerance, that no step size lowers."""
+    """Into ``work``'s row _NOISE, under error control (else nothing): the
+    weights w_k^2 by which the sweep of a step of size ``dt`` from (y, y')
+    judges whether its unknown z = y'' at the step's end is known well
+    enough for the error estimate (:func:`error_norm`) that reads it.
+
+    The estimates read z through differences: errors up to e_k in z_k at
+    the three knots of two steps of about equal size h enter the jump of
+    y''' as up to 4 e_k / h and y''' as 2 e_k / h (after a step h_prev
+    shorter than h, the jump's share is larger by about h / h_prev), so the
+    estimates per unit step as span e_k (4 c3yp + 2 c2yp) (of y') and span
+    |h| e_k (4 c4y + 2 c3y) (of y).  The error a sweep's last change c_k
+    leaves is theta / (1 - theta) c_k for a contraction theta, here the
+    run's remembered ``stiffness`` (:func:`judge`) times h^2, at most 1/2;
+    the weights hold that factor, so that the sweep compares its last
+    change with them: it iterates until sqrt(mean_k w_k^2 c_k^2) <= 1, the
+    terms above within NOISE_SHARE of the tolerance (or until the change
+    stops falling, at rounding).  Where no contraction was measured (the
+    changes all below rounding: a mild equation), the weights are 0 and
+    nothing is asked beyond the test on the state.
+
+    Without them the sweep stops when its increments are within tol of
+    the state, which leaves z an error of order |dF/dy| tol times the
+    state's size (omega^2 tol on an oscillation of frequency omega): on the
+    chain of 10,000 masses a floor of the estimate, near the tolerance,
+    that no step size lowered."""
     if ctrl.kind != ERROR:
         return
     m = y.shape[0]
@@ -346,7 +367,8 @@ def judge(ctrl, vectors, sc, outcome, dt, dt_prev, jerks, y, yp, y_new, yp_new, 
     h, or FAILED_FACTOR times smaller when theta is unknown; one whose error
     norm exceeds 1 is retried smaller; an accepted one sets the next size
     from the norm, within ``max_step``.  Every next size is at most
-    sqrt(theta_max / stiffness), the remembered stiffness's: theta grows
+    sqrt(theta_max / stiffness), the remembered stiffness's (but a failed
+    step's retry is at least MIN_FACTOR / 2 of it): theta grows
     like h^2 on an oscillation, so the steps stay where the sweep converges
     and the member is stable instead of cycling between growth and failure
     there."""

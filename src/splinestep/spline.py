@@ -197,16 +197,16 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         the stepwise solution, without the step-size check (``local_error``
         is NaN, nothing warns), and a run whose starting sweep or Newton
         iteration fails returns its initial state only.  Its update
-        converges when it is at most ``tol`` times the state or within 8
-        times the rounding level of F, as the step's.  It makes the
+        converges when it is at most ``tol`` times the largest value or
+        within 8 times the rounding level of F, a floor like the step's.  It makes the
         Jacobian dense, m x m blocks at every knot: about
         :data:`GLOBAL_BYTES` n m^2 bytes for n steps, and a run that would
         need more than a fifth of the memory free is refused (ValueError).
         On one processor it cannot pay: on the chain of masses, 10 steps
-        take about 1 s at m = 100 and 200 and 10 s at m = 400, and 100
-        steps at m = 200 take 23 s and 3.7 GiB, where ``"newton"`` with
-        the sparse jac takes about 0.01 s; at m = 10,000 a single step
-        would need 93 GiB.  It is the structure that parallel-in-time
+        take seconds at m = 100 and 200 and about 10 s at m = 400, and
+        100 steps at m = 200 take 23 s and 3.7 GiB, where ``"newton"``
+        with the sparse jac takes about 0.01 s; at m = 10,000 a single
+        step would need 93 GiB.  It is the structure that parallel-in-time
         methods distribute (:mod:`splinestep.bvp`); large systems take the
         stepwise paths.
     iterations : int, optional
@@ -304,9 +304,9 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         component at a knot stops there, failed (status -1, the message
         names the time), and returns the steps before it (default inf: no
         bound).  Where the step-size check finds a blow-up it fails the run
-        too, but only a run that does not start from rest
-        (:mod:`splinestep.check`); the bound holds on every run, checked
-        or not.  Not with ``iteration="global"``.
+        too, but not a run from the zero state, y0 = 0 and y'0 = 0
+        (:mod:`splinestep.check`); the bound holds on every stepwise run,
+        checked or not.  Not with ``iteration="global"`` (ValueError).
 
     Returns
     -------
@@ -410,8 +410,8 @@ def _options(options):
     opts["max_steps"] = _base.check_max_steps(opts["max_steps"])
     opts["check"] = _base.check_flag(opts["check"], "check")
     y_max = opts["y_max"]
-    if (isinstance(y_max, (bool, np.bool_)) or not isinstance(y_max, (int, float, np.integer, np.floating))
-            or not y_max > 0):
+    number = isinstance(y_max, (int, float, np.integer, np.floating))
+    if isinstance(y_max, (bool, np.bool_)) or not number or not y_max > 0:
         raise ValueError(f"y_max must be a positive number (inf: no bound), got {y_max!r}")
     opts["y_max"] = float(y_max)
     return opts
@@ -423,6 +423,9 @@ def _check_choices(opts, order, adaptive, events, member):
     if order != 2 and not member.symmetric:
         raise ValueError(f"order={order} composes symmetric steps only (gamma = 1/2, no "
                          f"alpha); method {member.describe()} is not")
+    if iteration == "global" and opts["y_max"] < np.inf:
+        raise ValueError('iteration="global" takes no y_max (it solves every knot at once); '
+                         'pass iteration="newton"')
     if iteration == "global" and opts["mass"] is not None:
         raise ValueError('iteration="global" takes no mass matrix; pass iteration='
                          '"fixed-point" or "newton"')
