@@ -201,7 +201,7 @@ print(outputs.wrapped(
 tolerance.ratio_ranges(cost)
 
 # %% [markdown]
-# The matched runs reach the adaptive runs' errors to within 0.89 to 1.17:
+# The matched runs reach the adaptive runs' errors to within 0.89 to 1.12:
 # the widest where the rational problem's coarsest matched runs take a few
 # steps, or where rounding over a million steps is part of the pendulum's
 # error at rtol $10^{-8}$.  The matched runs' evaluations are 0.96 to 1.03
@@ -212,7 +212,7 @@ tolerance.ratio_ranges(cost)
 # first column), the adaptive knots cost 0.57 to 1.06 times the uniform
 # evaluations on the oscillator and 0.78 to 1.07 on the forced Duffing
 # oscillator: cheaper or about even.  They cost 1.21 to 5.06 times on the
-# pendulum (nearly even only at rtol $10^{-8}$) and 1.07 to 1.14 on the
+# pendulum (closest to even at rtol $10^{-8}$) and 1.07 to 1.14 on the
 # rational problem.  On the Kepler orbit they cost 0.027 to 0.036 times
 # the uniform evaluations, a saving of 28 to 37 times (the largest at rtol
 # $10^{-3}$).

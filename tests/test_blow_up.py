@@ -183,3 +183,17 @@ def test_a_run_stopped_at_y_max_keeps_its_message_when_the_check_sees_a_blow_up(
                  y_max=1e6)
     assert res.status == -1 and "exceeded y_max = 1e+06" in res.message
     assert "blew up" not in res.message and np.max(np.abs(res.y)) <= 1e6
+
+
+def test_the_chain_past_the_limit_fails_on_the_arnoldi_path():
+    """The chain of 100 masses at omega_m h = 4 (beyond sqrt 12), Newton with
+    the sparse K: above DENSE_UP_TO the check estimates the growth by
+    Arnoldi steps (the equation's own growth then reads 1 + 2e-16), and the
+    run's last step is shortened to end the span; the run, |y| about 1e64,
+    is a failure whose estimated omega h is the step's."""
+    p = problems.chain(100, omega_h=4.0, periods=3.125)
+    res = _quiet(p.fun, p.t_span, p.y0, p.yp0, p.h, args=p.args, iteration="newton",
+                 jac=p.jac)
+    assert res.status == -1 and not res.success
+    assert "blew up" in res.message and "estimated omega h = 4, past its stability limit" \
+        in res.message

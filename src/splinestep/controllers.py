@@ -104,11 +104,13 @@ FAILED_FACTOR = 0.25
 # theta (its change's factor per sweep, which grows like h^2 on an
 # oscillation), and, for a conditionally stable member, STABLE_SAFETY of
 # its stability limit in the same measure ((1 - alpha_f) beta/(1 - alpha_m)
-# (omega h)^2, from Newton's matrix).  THETA_TARGET is near the sweep's
-# least cost measured on the chain of masses (the speed page's span, rtol
-# 1e-3, atol 1e-8, a memory of 0.999 below): evaluations at m = 1,000 and
-# 3,000 of 35,056 and 78,831 at a target of 0.135, 31,203 and 70,432 at
-# 0.25, 29,277 and 101,033 at 0.5, 49,454 and 141,546 at 0.7.  On an
+# (omega h)^2, from Newton's matrix).  THETA_TARGET is the least cost of
+# those measured on the chain of masses at m = 3,000, and within 7 % of it
+# at m = 1,000 (the speed page's span, rtol 1e-3, atol 1e-8, measured with
+# a STIFFNESS_MEMORY of 0.999): evaluations at m = 1,000 and 3,000 of
+# 35,056 and 78,831 at a target of 0.135, 31,203 and 70,432 at 0.25,
+# 29,277 and 101,033 at 0.5, 49,454 and 141,546 at 0.7 (at 0.25 with the
+# memory of 0.99 below, 30,992 and 67,895).  On an
 # oscillation theta =
 # beta (omega h)^2 and the sweeps per step grow like 1/|log theta|, so the
 # sweeps per unit time like 1/(sqrt(theta) |log theta|), least at theta =
@@ -122,8 +124,8 @@ STABLE_SAFETY = 0.9
 # The driver remembers the largest contraction per h^2 its steps showed
 # (the sweep's measured theta sees only the modes its change holds, so the
 # fastest shows itself when a sweep fails there), fading by this factor per
-# step so that a stiffness the equation loses stops bounding the steps
-# (a half-life of about 70 steps: on the chain of masses 0.99 and 0.999
+# step attempt so that a stiffness the equation loses stops bounding the
+# steps (a half-life of about 70 attempts: on the chain of masses 0.99 and 0.999
 # cost the same, 30,992 and 31,203 evaluations at m = 1,000; on the Kepler
 # orbit e = 0.9, 0.999 held the steps near apoapsis to the stiffness of the
 # inner orbit).
@@ -179,9 +181,8 @@ def contraction_target(member, sweep):
     """The contraction theta the error controller keeps the steps of
     ``member`` (a :class:`splinestep.members.Member`) below: for the sweep
     (``sweep``) THETA_TARGET; for a conditionally stable member with beta >
-    0, at most (1 - alpha_f) beta / (1 - alpha_m) (STABLE_SAFETY omega_lim
-    h)^2, the
-    measure of Newton's matrix at STABLE_SAFETY of its stability limit
+    0, at most (1 - alpha_f) beta / (1 - alpha_m) (STABLE_SAFETY
+    omega_lim)^2, the measure of Newton's matrix at STABLE_SAFETY of its stability limit
     omega_lim (:attr:`splinestep.members.Member.stability_limit`; an
     oscillation's omega h).  inf: no bound (central difference, whose
     matrix holds no dF/dy, and the unconditionally stable members under
@@ -359,7 +360,7 @@ def judge(ctrl, vectors, sc, outcome, dt, dt_prev, jerks, y, yp, y_new, yp_new, 
     bound of Newton's matrix, NaN when unknown.  ``jerks`` holds the step's
     third derivative and that of the step before; ``memory`` what the
     controller keeps between steps, (the largest theta per h^2 seen, fading
-    by STIFFNESS_MEMORY per step; whether the last step was rejected),
+    by STIFFNESS_MEMORY per step attempt; whether the last step was rejected),
     (0, False) at the start.
 
     A step whose equation failed is retried at h sqrt(theta_max / theta)

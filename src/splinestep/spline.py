@@ -303,10 +303,12 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         A bound on the solution: a run whose |y| exceeds ``y_max`` in any
         component at a knot stops there, failed (status -1, the message
         names the time), and returns the steps before it (default inf: no
-        bound).  Where the step-size check finds a blow-up it fails the run
-        too, but not a run from the zero state, y0 = 0 and y'0 = 0
-        (:mod:`splinestep.check`); the bound holds on every stepwise run,
-        checked or not.  Not with ``iteration="global"`` (ValueError).
+        bound; a y0 beyond it is a ValueError).  Where the step-size check
+        finds a blow-up it fails the run too, but not a run from the zero
+        state, y0 = 0 and y'0 = 0, nor one of order 4 or 6, which keep the
+        warning (:mod:`splinestep.check`); the bound holds on every
+        stepwise run of ``solve``, checked or not.  Not with
+        ``iteration="global"`` (ValueError).
 
     Returns
     -------
