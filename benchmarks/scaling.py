@@ -6,7 +6,8 @@ mode, at the step omega_m h = 1 (omega_m the fastest frequency; order 4
 takes the same h), with the exact modal solution as reference.  For m = 10,
 100, 1,000, 10,000 and 100,000 it measures each path of splinestep
 (fixed-point sweep, RK4, Verlet, order 4, Newton with a dense and with a
-sparse Jacobian, adaptive knots) and the other members of Newmark's family
+sparse Jacobian; adaptive knots are benchmarks/controller.py's) and the
+other members of Newmark's family
 on their natural paths (Fox-Goodwin and central difference by the sweep;
 average acceleration, HHT and generalized-alpha by Newton with SuperLU)
 beside
@@ -22,7 +23,7 @@ for the time per step (wall clock: the difference of runs of n and 2n
 steps over their difference of steps, each the median of :data:`REPEATS`,
 so that a run's fixed costs do not count, n doubled from
 :data:`PROBE_STEPS` until the longer run takes :data:`TIMED` seconds;
-adaptive runs: the whole run over its steps), the peak memory of a run
+a path that cannot be cut short: the whole run over its steps), the peak memory of a run
 (``tracemalloc``, which sees numpy's and numba's allocations, over
 :data:`MEMORY_STEPS` steps: with only the end reported no buffer grows
 with the steps) and the largest error at the end against the exact
@@ -74,7 +75,6 @@ MEMORY_STEPS = 5
 REPEATS = 3
 TIMED = 0.2
 SCIPY_TOL = dict(rtol=1e-6, atol=1e-9)
-ADAPTIVE_TOL = dict(rtol=1e-3, atol=1e-8)
 DENSE_UP_TO = 2_000
 CROSSOVER_SIZES = (10, 30, 60, 100, 150, 200, 300, 1_000)
 
@@ -175,11 +175,6 @@ def paths(problem):
             True),
         "Newton, sparse jac": (
             lambda steps: spline_run(steps, iteration="newton", jac=p.jac), None, True),
-        "adaptive (rtol 1e-3, atol 1e-8)": (
-            lambda steps: spline_run(None, h=None, **ADAPTIVE_TOL),
-            None if m <= 10_000 else "the whole span, not truncatable: its steps grow like m "
-            "and the cost of each too (about 20 minutes; the rows of m = 10,000 and below)",
-            False),
         # Newmark's family, each member on its natural path: the explicit-like
         # members (beta < 1/4, stable at omega_m h = 1) by the sweep, the
         # unconditionally stable ones by Newton with SuperLU, the matrix

@@ -203,7 +203,8 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         :data:`GLOBAL_BYTES` n m^2 bytes for n steps, and a run that would
         need more than a fifth of the memory free is refused (ValueError).
         On one processor it cannot pay: on the chain of masses, 10 steps
-        take seconds at m = 100 and 200 and about 10 s at m = 400, and
+        take under a second at m = 100, a few seconds at m = 200 and about
+        10 s at m = 400 (CPU time grows like m^3), and
         100 steps at m = 200 take 23 s and 3.7 GiB, where ``"newton"``
         with the sparse jac takes about 0.01 s; at m = 10,000 a single
         step would need 93 GiB.  It is the structure that parallel-in-time
