@@ -29,17 +29,15 @@ website/speed.md, between ``<!-- begin controller -->`` and ``<!-- end
 controller -->``.  Run with ``make bench``.
 """
 
-import re
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
 import splinestep
 from splinestep import problems
+from speed_page import write_section
 
-ROOT = Path(__file__).resolve().parent.parent
 PERIODS = 3.125
 TOL = dict(rtol=1e-3, atol=1e-8)
 RUNS = (("fixed-point sweep", {}, (100, 1_000, 3_000, 10_000)),
@@ -107,11 +105,7 @@ def steady_table():
 def main():
     text = "\n".join(cost_table() + [""] + steady_table())
     print(text)
-    page = ROOT / "website" / "speed.md"
-    old = page.read_text()
-    new = re.sub(r"(<!-- begin controller -->\n).*?(<!-- end controller -->)",
-                 lambda match: match.group(1) + text + "\n" + match.group(2), old, flags=re.S)
-    page.write_text(new)
+    write_section("controller", text)
     return 0
 
 

@@ -48,13 +48,11 @@ Run with ``make bench``.
 
 import os
 import platform
-import re
 import statistics
 import sys
 import time
 import tracemalloc
 import warnings
-from pathlib import Path
 
 import numpy as np
 from scipy import sparse
@@ -64,8 +62,8 @@ from scipy.sparse.linalg import splu
 import splinestep
 from splinestep import _linalg, spline
 from splinestep import problems
+from speed_page import write_section
 
-ROOT = Path(__file__).resolve().parent.parent
 SIZES = (10, 100, 1_000, 10_000, 100_000)
 BUDGET = 60.0
 # The span, in periods of the slowest mode (see the module's docstring).
@@ -409,12 +407,7 @@ def main(quick=False):
     text = render(rows, crossover, checks, sizes, machine)
     print(text)
     if not quick:
-        page = ROOT / "website" / "speed.md"
-        old = page.read_text()
-        new = re.sub(r"(<!-- begin scaling -->\n).*?(<!-- end scaling -->)",
-                     lambda match: match.group(1) + text + "\n" + match.group(2), old,
-                     flags=re.S)
-        page.write_text(new)
+        write_section("scaling", text)
     return 0
 
 

@@ -59,6 +59,7 @@ ROOT = HERE.parent
 sys.path[:0] = [str(HERE), str(ROOT / "scripts")]
 import compile_time  # noqa: E402
 import numba_reference  # noqa: E402
+from speed_page import write_section  # noqa: E402
 
 SWEEPS = 2               # fixed-point sweeps per step in the compiled rows, as in C
 COMPILED_STEPS = 1_000_000
@@ -571,11 +572,7 @@ def main(quick=False):
     text = "\n".join(lines)
     print(text)
     if not quick:
-        readme = ROOT / "website" / "speed.md"
-        old = readme.read_text()
-        new = re.sub(r"(<!-- begin bench -->\n).*?(<!-- end bench -->)",
-                     lambda m: m.group(1) + text + "\n" + m.group(2), old, flags=re.S)
-        readme.write_text(new)
+        write_section("bench", text)
     return 0
 
 
