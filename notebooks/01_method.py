@@ -77,7 +77,7 @@ print(f"-(h omega)^2 / 6 = {-factor:.4f}; the distance shrinks by a factor of {s
 #
 # for $x < \sqrt{12}$.  At $x = \sqrt{12}$ the two eigenvalues meet at $-1$ in
 # a Jordan block and the solution grows linearly with the number of steps
-# (notebook 06, section 3); beyond, the eigenvalues are real and one exceeds 1
+# (notebook 05, section 3); beyond, the eigenvalues are real and one exceeds 1
 # in modulus.  So below the limit the method neither damps nor amplifies, and it lags
 # in phase: each step turns the solution by $\Omega h$ instead of
 # $\omega h$, so that its period $T_h = 2\pi h/(\Omega h)$ is longer than the
@@ -190,7 +190,7 @@ outputs.save_figure(fig, "method-phase-error")
 #   the energy error stays bounded and oscillates with the orbit
 #   (`02_cannonball`), while the phase drifts linearly (on the oscillator it
 #   lags by $2\pi x^2/24$ per period to leading order; on the ellipse the
-#   lag per orbit is measured in `08_long_time`), and so does the position error.  The report's rigid body in
+#   lag per orbit is measured in `07_long_time`), and so does the position error.  The report's rigid body in
 #   its second-order form is not of that form, and there the energy error
 #   does grow (`03_rigid_body`): the bounded error is a property of the
 #   method on conservative problems, not on every problem;
@@ -207,4 +207,4 @@ outputs.save_figure(fig, "method-phase-error")
 #   only changes the constant.  Over long runs one sweep is another method:
 #   the predictor-corrector is not symmetric, and on the cannonball its
 #   energy error drifts linearly where the converged step's stays bounded
-#   (notebook 08).
+#   (notebook 07).

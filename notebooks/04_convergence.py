@@ -244,6 +244,6 @@ print(f"one sweep costs {share.min():.0%} to {share.max():.0%} of the iterated e
 # method a viable solver" is borne out.
 #
 # Among second-order methods too the spline is not the cheapest:
-# Stormer-Verlet, the same method in other variables (notebook 06),
+# Stormer-Verlet, the same method in other variables (notebook 05),
 # evaluates $F$ once per step, and at the same number of evaluations the
 # one-sweep spline's error is about 1.8 times Verlet's.

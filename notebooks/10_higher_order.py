@@ -2,7 +2,7 @@
 # # Order 4 and 6: symmetric compositions of the spline step
 #
 # The report's second direction, higher order, built from the cubic step
-# itself (the higher-degree splines of notebook 07 give no usable order):
+# itself (the higher-degree splines of notebook 06 give no usable order):
 # symmetric compositions of the spline step, beside Richardson
 # extrapolation, RK4 and DOP853.
 
@@ -26,7 +26,7 @@ plt = outputs.setup()
 
 # %% [markdown]
 # ## Order 4 and 6 by symmetric composition
-# Higher-degree splines give no usable higher order (notebook 07).  What
+# Higher-degree splines give no usable higher order (notebook 06).  What
 # works: the spline step is
 # symmetric (stepping back with $-h$ undoes it), so a symmetric composition of
 # it raises the order and keeps the symmetry.  `solve(order=4)` takes each
@@ -108,7 +108,7 @@ print(f"the order-6 run at dt = 0.01: {7 * (round(50 / 0.01) - 2) + 2 * 25} sub-
 # The ellipse over 10,000 orbits at $h = 0.08$ (the largest step of the
 # work-precision panel below): the report's method, the order-4
 # composition, and RK4 at the composition's work (its step stretched to
-# spend the same evaluations).  As in notebook 08, each run is sampled over
+# spend the same evaluations).  As in notebook 07, each run is sampled over
 # whole orbits at logarithmically spaced orbit numbers, at 64 of its own
 # steps per sampled orbit.  Each spline run ends with its step-size check
 # (`splinestep.check`), whose verdict we print with the run.
@@ -350,7 +350,7 @@ outputs.save_figure(fig, "composition")
 # order 6 costs about what RK4 does at low accuracy and less at high.
 #
 # The composition is symmetric but not conjugate to Verlet (its sub-steps
-# differ, so no single change of variables as in notebook 06 applies); its
+# differ, so no single change of variables as in notebook 05 applies); its
 # bounded energy is not explained by a conjugacy (reversible methods on
 # integrable problems keep modified invariants nearly constant, Hairer,
 # Lubich and Wanner Ch. XI, which we have not measured here).

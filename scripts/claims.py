@@ -1,6 +1,6 @@
 """The report's claims against what the notebooks measured, and its errata.
 
-Notebook 05 builds its tables here: :func:`claims_table` (written to
+Notebook 13 builds its tables here: :func:`claims_table` (written to
 ``data/claims.csv`` and, by ``make reproduce``, into the README),
 :func:`errata_table` (``data/errata.csv``) and :func:`headline_numbers`
 (``data/headline-numbers.csv``, the few numbers the paper's prose states).
@@ -15,7 +15,7 @@ full, its kind (:data:`KINDS`) and the notebook section that measures it.
 The tables are plain text (``4.1e-03``, ``omega^2``, ``sqrt(12)``) with
 formulas in TeX between dollars (``$c_{i+1} = r - p\\thinspace b_{i+1}$``):
 :func:`readable` shows the text as a reader reads it and leaves the formulas
-to MathJax (the README, notebook 05, the website) and to the paper, which
+to MathJax (the README, notebook 13, the website) and to the paper, which
 typesets the few TeX commands they use.  Shown as tables, each reference of
 the column "where" links to its heading on the report page
 (:data:`REPORT_PAGE`, :func:`report_heading`) and each notebook section to
@@ -150,7 +150,7 @@ class Measured:
 
     def adaptive_cost(self, problem, adaptive, uniform):
         """Adaptive over uniform evaluations at equal final error on one
-        problem of notebook 09's study, (least, most) over the adaptive runs
+        problem of notebook 08's study, (least, most) over the adaptive runs
         a uniform run was matched to (``adaptive``: "spline" or "spline, 1
         sweep"; ``uniform``: "iterated", "2 sweeps" or "1 sweep")."""
         cost = self.tolerance_cost
@@ -357,8 +357,8 @@ def proof(m):
         f"$\\sqrt{{12}}$ {c(STABILITY_LIMIT, 10)} (stable for $\\omega h < \\sqrt{{12}}$ only: "
         f"at the limit a Jordan block, $\\lvert y_{{1000}}\\rvert$ {c(AT_LIMIT)} from "
         f"$(y, h y') = (0, 1)$)",
-        "proved (notebooks/06_theory)",
-        "proved", "06_theory", "The two-step recurrence, its order, and the convergence theorem")
+        "proved (notebooks/05_theory)",
+        "proved", "05_theory", "The two-step recurrence, its order, and the convergence theorem")
 
 
 def higher_degree(m):
@@ -375,7 +375,7 @@ def higher_degree(m):
         "$y'''(0)$; from $y'''(0) = 0$ its error is about the cubic's) but is only weakly stable (a "
         "parasitic mode that damping makes grow); degrees 5 and 6 diverge for every h (as "
         "Loscalzo and Talbot 1967 found for $y' = f$)",
-        "built", "07_higher_degree", "Degree k, k - 1 continuous derivatives")
+        "built", "06_higher_degree", "Degree k, k - 1 continuous derivatives")
 
 
 def bounded_energy(m):
@@ -407,7 +407,7 @@ def bounded_energy(m):
         "so a modified energy is conserved and the energy error does not drift over 10,000 "
         "orbits; the phase drifts; this holds for the step equation solved to convergence, not "
         "for one sweep per step",
-        "beyond the report", "08_long_time", "10,000 orbits of the ellipse")
+        "beyond the report", "07_long_time", "10,000 orbits of the ellipse")
 
 
 def against_verlet(m):
@@ -427,11 +427,11 @@ def against_verlet(m):
         f"Verlet's does not)",
         "on this orbit Verlet wins at equal work against the spline iterated to convergence "
         "(the same method in other variables); the other orbits were not measured",
-        "beyond the report", "08_long_time", "At equal work: the spline or Verlet?")
+        "beyond the report", "07_long_time", "At equal work: the spline or Verlet?")
 
 
 def adaptability(m):
-    """The improvements the report suggests (notebooks 09 and 12)."""
+    """The improvements the report suggests (notebooks 08 and 11)."""
     gain_one, gain_iter = m.adaptive_gain("1 sweep"), m.adaptive_gain("iterated")
     others = ("harmonic oscillator", "forced Duffing", "pendulum, 3 rad", "rational, backwards")
 
@@ -446,10 +446,10 @@ def adaptability(m):
     rtol_span = " to ".join(f"1e{round(np.log10(r))}"
                             for r in (matched_rtols.max(), matched_rtols.min()))
     estimate = m.adaptive_estimate
-    # Steps whose true local error is below rounding (notebook 09) are left out.
+    # Steps whose true local error is below rounding (notebook 08) are left out.
     estimate = estimate[estimate.true > 1e-12]
     pleiades = m.pleiades_steps
-    # The uniform runs this claim states: h >= 1e-3 (notebook 12 also runs smaller steps).
+    # The uniform runs this claim states: h >= 1e-3 (notebook 11 also runs smaller steps).
     uniform_h = pleiades.run.str.extract(r"^uniform h = (.*)$")[0].astype(float)
     pleiades = pleiades[~(uniform_h < 1e-3)]
     adaptive = pleiades[pleiades.run.str.startswith("adaptive")]
@@ -509,7 +509,7 @@ def adaptability(m):
         f"evaluations per step, {kept_over_sweep.min():.2f} to {kept_over_sweep.max():.2f} times "
         f"the default fixed-point sweep's",
         f"built: rtol bounds the final error of y (below rtol times the solution's scale on "
-        f"{problems_measured} problems, as measured in notebook 09, with each step iterated to "
+        f"{problems_measured} problems, as measured in notebook 08, with each step iterated to "
         f"convergence; with one sweep per step up to {worst_one_sweep.error_ratio:.2f} times on "
         f"the {worst_one_sweep.problem}; "
         f"not on Pleiades, whose close encounters amplify errors: "
@@ -521,7 +521,7 @@ def adaptability(m):
         f"h = 1e-4 reaches t = 3 with error {sci(uniform_fine.error.min())}, unflagged, at "
         f"{uniform_fine.nfev.min() / adaptive_coarse.nfev.min():.1f} times the evaluations of "
         f"adaptive rtol 1e-4 (error {sci(adaptive_coarse.error.min())}); where the solution's "
-        f"scale varies less the gain is small or negative (notebook 09, both runs iterated to "
+        f"scale varies less the gain is small or negative (notebook 08, both runs iterated to "
         f"convergence: adaptive knots cost {cost(others[0])} times the uniform evaluations on "
         f"the oscillator, {cost(others[1])} on the forced Duffing oscillator, {cost(others[2])} "
         f"on the pendulum and {cost(others[3])} on the rational problem; against a uniform "
@@ -531,7 +531,7 @@ def adaptability(m):
         f"orbit e = 0.9 over 300 orbits reversible steps keep the energy error bounded where "
         f"error-controlled knots do not; keeping "
         f"Newton's matrix saves only against full Newton, not against the sweep",
-        "built", "09_adaptive_steps", "Adaptive knots")
+        "built", "08_adaptive_steps", "Adaptive knots")
 
 
 def higher_order(m):
@@ -607,7 +607,7 @@ def global_sweep(m):
         f"step size); finite-difference Jacobian: {ratio(fd)} times the stepwise F evaluations",
         "built; it gives the same solution and does not pay on one processor (a "
         "parallel-in-time structure); its use is boundary value problems",
-        "built", "11_global_sweep_and_bvp", "The single Newton-LU sweep")
+        "built", "09_global_sweep_and_bvp", "The single Newton-LU sweep")
 
 
 def boundary_value_problems(m):
@@ -637,7 +637,7 @@ def boundary_value_problems(m):
         "a tolerance on the solution (mesh halving); a run without solution ends as failed, "
         "with a message, and so does a problem whose solution does not converge with the mesh "
         "($y'' = -y$, $y(0) = 0$, $y(\\pi) = 1$, which has none)",
-        "beyond the report", "11_global_sweep_and_bvp", "Boundary value problems")
+        "beyond the report", "09_global_sweep_and_bvp", "Boundary value problems")
 
 
 def _leading(series):
@@ -687,7 +687,7 @@ def newmark_family(m):
         "accuracy structural analysis asks of the slow modes (here a phase error of 1e-3); "
         "where more is wanted than the report's member reaches at its stability limit, the "
         "report's member is the cheaper",
-        "beyond the report", "13_newmark_family", "Verdict")
+        "beyond the report", "12_newmark_family", "Verdict")
 
 
 # The claims in the order of the table: the report's, then the findings beyond it.

@@ -1,5 +1,5 @@
 """The measurement helpers the notebooks call (splinestep.analysis:
-long_time for notebook 08, adaptive for 09, error_location for 02), each
+long_time for notebook 07, adaptive for 08, error_location for 02), each
 against a closed form or an independent computation."""
 
 import numpy as np
@@ -63,7 +63,7 @@ def test_invariants_per_orbit_keeps_the_largest_error_of_each_sampled_orbit():
 
 def test_true_local_error_of_a_step_is_fourth_order():
     """y'' = -y: one step from exact values misses by h^4 y''''/24 to
-    leading order (notebook 06): at t = 1, cos(1) h^4 / 24."""
+    leading order (notebook 05): at t = 1, cos(1) h^4 / 24."""
     oscillator = problems.harmonic()
     for h in (0.1, 0.05):
         error = adaptive.true_local_errors(oscillator, [1.0, 1.0 + h])[0]
@@ -118,7 +118,7 @@ def test_trajectories_and_their_separation_from_the_exact_orbit():
 
 
 def test_reproducible_round_keeps_the_digits_another_cpu_reproduces():
-    """DOP853's evaluations per orbit on two machines (notebook 08): 190 and
+    """DOP853's evaluations per orbit on two machines (notebook 07): 190 and
     200 at two digits, 200 at the digits that a 5 % spread reproduces; a
     count that reproduces exactly keeps two digits."""
     assert [float(f"{v:.1e}") for v in (194.99, 195.61)] == [190.0, 200.0]

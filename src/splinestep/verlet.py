@@ -1,6 +1,6 @@
 """The second baseline: Stormer-Verlet in its velocity form, the standard
 second-order method for y'' = f(y), to which the spline stepper is
-conjugate (see ``notebooks/06_theory``)."""
+conjugate (see ``notebooks/05_theory``)."""
 
 from .driver import VERLET
 from .rk4 import run_baseline

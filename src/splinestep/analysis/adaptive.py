@@ -1,4 +1,4 @@
-"""Measurements of adaptive knots (notebook 09): the true local error of
+"""Measurements of adaptive knots (notebook 08): the true local error of
 each step and the energy error orbit by orbit.  Their cost against uniform
 steps is measured in :mod:`splinestep.analysis.tolerance`.
 """

@@ -12,7 +12,7 @@ for the modified force
 
 so every property of Verlet on f~ (symmetric, symplectic for a conservative
 f, a modified energy conserved without drift, Verlet's angular momentum)
-holds for the spline stepper in the variables (Y, P).  ``notebooks/06_theory``
+holds for the spline stepper in the variables (Y, P).  ``notebooks/05_theory``
 derives it and checks it over many orbits; this module supplies the map and
 the modified force so that the check runs the package's own Verlet.
 

@@ -19,7 +19,7 @@ part of p^{(j)}(h) that does not involve g):
 solved by the fixed-point sweep.  k = 3 is the report's cubic method (the
 coefficients h^2/6 and h/2 of ``splinestep.spline``).  For k >= 4 the
 derivatives D_3 .. D_{k-1} at the knots are extra state: their recurrence
-has roots that the ODE does not have (``notebooks/07_higher_degree`` derives
+has roots that the ODE does not have (``notebooks/06_higher_degree`` derives
 them); for k = 5 and 6 (the degrees measured) one lies outside the unit
 circle, and the method diverges however small h is (Loscalzo and Talbot 1967 found the same for
 first-order equations).

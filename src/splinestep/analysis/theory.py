@@ -6,7 +6,7 @@ of the Verlet conjugacy.
 Each derivation returns sympy expressions (:func:`latex` and :func:`aligned`
 typeset them); the functions after them measure the same constants with the
 package, on the oscillator y'' = -omega^2 y and the two-step recurrence.
-``notebooks/06_theory`` shows the derivations and the measurements, and
+``notebooks/05_theory`` shows the derivations and the measurements, and
 ``tests/test_theory.py`` checks every constant against a measurement.  Needs
 sympy (``pip install splinestep[theory]``).
 

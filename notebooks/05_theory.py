@@ -7,8 +7,8 @@
 # against a measurement made with the package: the local errors, the
 # two-step recurrence and its convergence theorem, stability and period on
 # the oscillator, and that the spline stepper is Stormer-Verlet seen
-# through a change of variables.  Notebook 07 takes up the report's
-# "higher-order polynomial splines", notebook 08 what the theory predicts
+# through a change of variables.  Notebook 06 takes up the report's
+# "higher-order polynomial splines", notebook 07 what the theory predicts
 # for long runs.
 
 # %%
@@ -414,7 +414,7 @@ print(f"  |Verlet on f - spline| up to {plain_gap:.2f}")
 #   the spline's energy error stays $O(h^2)$ without drift, for times
 #   exponentially long in $1/h$ where the theorem's hypotheses hold (an
 #   analytic Hamiltonian on a bounded region: for Kepler, away from $r = 0$);
-#   notebook 08 measures no drift over $10^4$ orbits;
+#   notebook 07 measures no drift over $10^4$ orbits;
 # * **phase**: on the oscillator the period error is Verlet's with the
 #   opposite sign at leading order (section 3: $\pm x^2/24$).
 #

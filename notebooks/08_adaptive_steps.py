@@ -8,7 +8,7 @@
 # and measures it against the uniform step and scipy's codes: adaptive
 # knots with the spline's own error estimate, a tolerance that bounds the
 # global error, and the time-reversible steps that keep the long-time
-# behaviour.  Notebook 10 builds the higher orders, notebook 11 the single
+# behaviour.  Notebook 10 builds the higher orders, notebook 09 the single
 # sweep and the boundary value problems it makes possible.
 #
 # One step serves all of them.  `splinestep.step` holds the spline step (its
@@ -37,7 +37,7 @@ plt = outputs.setup()
 # ## Adaptive knots
 # ### The error estimate
 # One step from exact values misses, to leading order, $h^4 y''''/24$ in $y$
-# and $h^3 y''''/12$ in $y'$ (notebook 06).  The estimate that Newmark codes
+# and $h^3 y''''/12$ in $y'$ (notebook 05).  The estimate that Newmark codes
 # use (Zienkiewicz and Xie, 1991) is proportional to $\beta - 1/6$ and
 # vanishes for this method.
 #
@@ -338,7 +338,7 @@ graded.pivot_table(index=["problem", "n"], columns="exponent", values="error_ove
 
 # %% [markdown]
 # ## The long-time picture of variable steps
-# A fixed step keeps the energy error bounded (notebook 08).  Adaptive knots
+# A fixed step keeps the energy error bounded (notebook 07).  Adaptive knots
 # lose it, since the step sizes depend on an error estimate that is not
 # symmetric in time.
 #

@@ -9,7 +9,7 @@
 # what Newton's method with a kept matrix (`reuse_jacobian=True`) costs
 # against full Newton and the sweep.
 #
-# It continues notebook 09 (adaptive knots); the step itself is built in
+# It continues notebook 08 (adaptive knots); the step itself is built in
 # notebook 01 and `splinestep.step`.
 
 # %%

@@ -1,7 +1,7 @@
 # %% [markdown]
 # # The long-time picture: 10,000 orbits of the ellipse, and equal work
 #
-# What the theory of notebook 06 predicts for long runs, measured: the
+# What the theory of notebook 05 predicts for long runs, measured: the
 # spline stepper conserves a modified energy on the Kepler problem (it is
 # Stormer-Verlet in other variables), and its phase drifts; and at equal
 # work against Verlet.  Why the report's rigid body has no such bounded
@@ -104,7 +104,7 @@ print(outputs.wrapped("evaluations per orbit: " + "; ".join(
 # to the largest error of each sampled orbit from orbit 100 on
 # (`long_time.drift_table`): $b = 0$ is a bounded error, $b = 1$ a linear
 # drift.  For the spline we also follow the modified invariants of
-# notebook 06.
+# notebook 05.
 
 # %%
 GROWTH_FROM = 100
@@ -128,7 +128,7 @@ long_time_analysis.drift_summary(drift)
 # %% [markdown]
 # Over the 10,000 orbits the spline's energy error does not grow (fitted
 # exponent +0.00, as Verlet's), while its modified energy $\tilde H$ of
-# notebook 06 varies by $2.2 \times 10^{-11}$ only, an $O(h^4)$ quantity:
+# notebook 05 varies by $2.2 \times 10^{-11}$ only, an $O(h^4)$ quantity:
 # the bounded error is the conjugacy's modified energy at work.
 #
 # Its angular momentum $q \times v$ oscillates without drift (exponent
@@ -214,7 +214,7 @@ print(outputs.wrapped(
 # ### Phase
 # A bounded energy error is not a bounded position error: the computed body
 # runs ahead of or behind the exact one.  On the oscillator the two methods'
-# periods err by $\pm(\omega h)^2/24$ to leading order (notebook 06, section 3), in opposite
+# periods err by $\pm(\omega h)^2/24$ to leading order (notebook 05, section 3), in opposite
 # directions.
 # On the Kepler orbit we measure the drift of the polar angle per orbit in
 # two independent ways, over 200 orbits sampled at every step:
