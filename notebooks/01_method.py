@@ -37,6 +37,8 @@ from splinestep import problems
 from splinestep.analysis import diagnostics
 
 plt = outputs.setup()
+
+# %%
 h = 0.5
 exact_step = splinestep.solve(lambda t, y, yp: -y, (0, h), 1.0, 0.0, h, tol=1e-15)
 changes = []
@@ -112,9 +114,12 @@ outputs.save_data(phase, "method-phase-error")
 period_deviation = np.max(np.abs(phase.period_ratio_measured / phase.period_ratio_theory - 1))
 spline_deviation = np.max(np.abs(phase.amplitude_factor_spline - 1))
 rk4_deviation = np.max(np.abs(phase.amplitude_factor_rk4 / phase.amplitude_factor_rk4_theory - 1))
-print(f"measured period ratio / closed form - 1, largest: below 1e-12: {period_deviation < 1e-12}")
-print(f"spline amplitude factor - 1, largest: below 1e-12: {spline_deviation < 1e-12}")
-print(f"RK4 amplitude factor / |R(ix)| - 1, largest: below 1e-10: {rk4_deviation < 1e-10}")
+
+# %%
+assert period_deviation < 1e-12 and spline_deviation < 1e-12 and rk4_deviation < 1e-10
+print(f"largest |measured period ratio / closed form - 1|: {outputs.rounding(period_deviation)}")
+print(f"largest |spline amplitude factor - 1|:              {outputs.rounding(spline_deviation)}")
+print(f"largest |RK4 amplitude factor / |R(ix)| - 1|:       {outputs.rounding(rk4_deviation)}")
 print(f"RK4 amplitude factor from {phase.amplitude_factor_rk4.min():.4f} "
       f"to {phase.amplitude_factor_rk4.max():.4f}")
 flagged = phase[phase.step_flagged]
@@ -136,7 +141,7 @@ print(outputs.wrapped(
 # above instead of printed.  The figure shows the period error and the
 # amplitude factor against $\omega h$:
 
-# %%
+# %% jupyter={"source_hidden": true}
 fig, (ax, bx) = plt.subplots(1, 2, figsize=(outputs.WIDTH, 3.9), sharex=True)
 ticks = [0.05, 0.1, 0.2, 0.5, 1, 2, 3]
 # The period error T_h / T - 1 = omega h / (Omega h) - 1

@@ -27,6 +27,8 @@ from splinestep import problems
 from splinestep.analysis import error_location
 
 plt = outputs.setup()
+
+# %%
 MUS = problems.CANNONBALL_MU
 runs = {}
 for mu in MUS:
@@ -54,7 +56,7 @@ print(f"spline: {per_step.min():.2f} to {per_step.max():.2f} evaluations per ste
 # %% [markdown]
 # ## Figure 1a: the four trajectories
 
-# %%
+# %% jupyter={"source_hidden": true}
 fig, axes = plt.subplots(2, 2, figsize=(outputs.WIDTH, 5.0))
 for ax, mu in zip(axes.flat, MUS):
     problem = problems.cannonball(mu)
@@ -105,7 +107,7 @@ outputs.save_figure(fig, "cannonball-trajectories")
 # %%
 errors = error_location.error_histories(runs)
 
-# %%
+# %% jupyter={"source_hidden": true}
 fig, axes = plt.subplots(3, 2, figsize=(outputs.WIDTH, 5.0), sharex=True, sharey="row")
 columns = {"energy_error": "energy\n$|H(t) - H(0)|$",
            "momentum_error": "ang. momentum\n$|M(t) - M(0)|$",
@@ -234,7 +236,7 @@ error_location.candidates(location).agg({
 # the rate at which the spline's energy error changes, with the arcs
 # $r < 1.5$ (red) and $r > 4.5$ (grey) shaded:
 
-# %%
+# %% jupyter={"source_hidden": true}
 one, first, t = c["one"], c["first"], c["t"]
 fig, (ax_r, *axes) = plt.subplots(3, 1, figsize=(outputs.WIDTH, 5.0), sharex=True,
                                   gridspec_kw=dict(height_ratios=[1, 2, 2]))

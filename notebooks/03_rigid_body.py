@@ -36,6 +36,8 @@ from splinestep.problems import euler_top
 from splinestep.analysis import diagnostics
 
 plt = outputs.setup()
+
+# %%
 CASES = ("printed", "consistent")
 runs = {}
 references = {}  # (omega, omega') of the reference at the knots, computed once per case
@@ -61,7 +63,7 @@ def extrema(values):
     return np.flatnonzero(slope[1:] * slope[:-1] < 0) + 1
 
 
-# %%
+# %% jupyter={"source_hidden": true}
 fig, axes = plt.subplots(2, 2, figsize=(outputs.WIDTH, 5.0), sharex="col")
 rows = []
 coincide = {}
@@ -164,7 +166,7 @@ for row in summary.itertuples():
         f"RK4 {row.solution_error_rk4:.2e}; spline evaluations per step "
         f"{row.spline_evaluations_per_step:.2f}"))
 
-# %%
+# %% jupyter={"source_hidden": true}
 fig, axes = plt.subplots(1, 2, figsize=(outputs.WIDTH, 4.2), sharey=True)
 for ax, case in zip(axes, CASES):
     sel = errors[errors.case == case]

@@ -25,6 +25,8 @@ from splinestep import problems
 from splinestep.analysis import diagnostics
 
 plt = outputs.setup()
+
+# %%
 STEPS = 0.08 / 2.0 ** np.arange(8)
 FLOOR = 1e-10
 cases = {f"cannonball mu={mu:g}": problems.cannonball(mu) for mu in problems.CANNONBALL_MU}
@@ -65,7 +67,7 @@ outputs.save_data(slopes, "convergence-slopes")
 # %% [markdown]
 # ## Figure 3
 
-# %%
+# %% jupyter={"source_hidden": true}
 from matplotlib.lines import Line2D  # noqa: E402
 
 # One colour per problem (the orbits' colours, black for the rigid body); marker and line
@@ -160,7 +162,7 @@ outputs.save_data(work, "work-precision")
 # Each curve is one method, each point one step (or one tolerance, for
 # scipy's solvers); lower and further left is better.
 
-# %%
+# %% jupyter={"source_hidden": true}
 fig, ax = plt.subplots(figsize=(outputs.WIDTH, 5.0))
 METHODS = ("spline (converged)", "spline (1 sweep)", "Verlet", "RK4", "scipy RK45", "scipy DOP853")
 for method in METHODS:
@@ -204,6 +206,11 @@ for method in METHODS:
                 f"{nfev.min()} evaluations give {error[np.argmin(nfev)]:.1e}"))
 reach = pd.DataFrame(reach)
 outputs.save_data(reach, "work-to-reach")
+
+# %% [markdown]
+# The error of each spline run against each baseline's at the same number of evaluations:
+
+# %%
 # Error ratios at equal work from the points above the fit floor: below it
 # (RK4's two smallest steps) rounding, not the method, sets the error.
 above_floor = {m: (n[e > FLOOR], e[e > FLOOR]) for m, (n, e) in curves.items()}

@@ -106,7 +106,8 @@ one_sweep = ellipse.solve(h=0.01, iterations=1, t_eval=None)
 converged_residual = theory.relation_residual(ellipse, converged)
 one_sweep_residual = theory.relation_residual(ellipse, one_sweep)
 print(f"largest residual of the relation on the ellipse's {converged.nstep} steps")
-print(f"  converged steps: below 1e-14: {converged_residual < 1e-14}")
+assert converged_residual < 1e-14
+print(f"  converged steps: {outputs.rounding(converged_residual)}")
 print(f"  one sweep per step: ~1e{np.log10(one_sweep_residual):.0f}")
 
 # %% [markdown]
@@ -161,8 +162,10 @@ for name, start in starts.items():
 # %%
 package_run = splinestep.solve(lambda t, y, yp: -y, (0.0, 10.0), 1.0, 0.0, 0.05, tol=1e-15)
 recurrence = theory.two_step_oscillator(1.0, package_run.y[0, 1], 0.05, package_run.nstep)
-print(f"two-step method against the package's run (h = 0.05): below 1e-12: "
-      f"{np.max(np.abs(recurrence - package_run.y[0])) < 1e-12}")
+recurrence_miss = np.max(np.abs(recurrence - package_run.y[0]))
+assert recurrence_miss < 1e-12
+print(f"two-step method against the package's run (h = 0.05), largest |difference|: "
+      f"{outputs.rounding(recurrence_miss)}")
 
 # %% [markdown]
 # For the general $F(t, y, y')$ the one-step argument applies (Hairer,
@@ -291,10 +294,11 @@ x_matrix = np.geomspace(0.1, 20.0, 40)  # Newton's tol: see theory.oscillator_ru
 radius = [np.max(np.abs(np.linalg.eigvals(theory.oscillator_step_matrix(v, tol=1e-10))))
           for v in x_matrix]
 closed_miss = misses["closed form"]
+assert closed_miss.max() < 1e-12
 print(f"closed form against the {x_period.size} runs, largest |difference|: "
-      f"below 1e-12: {closed_miss.max() < 1e-12}")
+      f"{outputs.rounding(closed_miss.max())}")
 
-# %%
+# %% jupyter={"source_hidden": true}
 fig, (ax, bx) = plt.subplots(1, 2, figsize=(outputs.WIDTH, 3.9))
 ROUNDING = 1e-12  # differences below it are rounding, which differs from CPU to CPU
 for (name, miss), marker, colour in zip(misses.items(), "os^", ("C0", "C1", "C2")):

@@ -4,7 +4,19 @@
 # The report's second direction, higher order, built from the cubic step
 # itself (the higher-degree splines of notebook 06 give no usable order):
 # symmetric compositions of the spline step, beside Richardson
-# extrapolation, RK4 and DOP853.
+# extrapolation, RK4 and DOP853.  What they give:
+#
+# * **the orders**: fitted slopes 3.98 to 4.00 (order 4) and 5.79 to 6.02
+#   (order 6) on the four cannonball orbits and the rigid body; on the
+#   ellipse at the report's step the largest position error falls from
+#   $4.1 \times 10^{-3}$ to $1.8 \times 10^{-7}$ (order 4);
+# * **over 10,000 orbits** the compositions' energy error stays level, as
+#   the report's method's, 356 times lower at order 4; RK4 at the same work
+#   starts lower and drifts past it near orbit 4290, but stays ahead in
+#   position until both have lost the phase;
+# * **at equal work** order 4 beats Richardson extrapolation of the
+#   report's method (1.3 to 1.5 times fewer evaluations) but not RK4 (0.21
+#   to 0.28) or DOP853.
 
 # %%
 import sys
@@ -110,8 +122,8 @@ print(f"the order-6 run at dt = 0.01: {7 * (round(50 / 0.01) - 2) + 2 * 25} sub-
 # composition, and RK4 at the composition's work (its step stretched to
 # spend the same evaluations).  As in notebook 07, each run is sampled over
 # whole orbits at logarithmically spaced orbit numbers, at 64 of its own
-# steps per sampled orbit.  Each spline run ends with its step-size check
-# (`splinestep.check`), whose verdict we print with the run.
+# steps per sampled orbit.  (Each spline run's step-size check flags it,
+# rightly: its verdict is examined at the end.)
 
 # %%
 period_ellipse = problems.orbit_elements(0.6)["period"]
@@ -127,22 +139,14 @@ for order in (2, 4):
                                args=ellipse.args, order=order,
                                t_eval=long_time.at_steps(wanted, LONG_STEP))
     long_runs[f"spline, order {order}"] = res
-    found = check_sums[order] = long_time.accumulated_estimate(res)
-    print(outputs.wrapped(f"order {order}: " + ("the sum not flagged" if found is None else
-          f"flagged; estimates summed over the run {found['sum_y']:g} in y, {found['sum_yp']:g} "
-          f"in y' (max |y| = {found['y_scale']:g}, max |y'| = {found['yp_scale']:g})")))
+    check_sums[order] = long_time.accumulated_estimate(res)   # the check's sums, for the end
 rk4_step = 4 * LONG_STEP / (long_runs["spline, order 4"].nfev / (t_long / LONG_STEP))
 long_runs["RK4, same work"] = splinestep.rk4(
     ellipse.fun, (0.0, t_long), ellipse.y0, ellipse.yp0, rk4_step, args=ellipse.args,
     t_eval=long_time.at_steps(wanted, rk4_step))
 
 # %% [markdown]
-# The check flags both spline runs: the local errors it estimates at every
-# step add up, over the 10,000 orbits, to more than 0.3 of the solution's
-# size in $y'$.  Its warning says that, unless the equation damps them, the
-# solution is off by as much.  Whether it is, we measure below against the
-# exact orbit.  First what the runs give: the largest energy error and
-# position error in each sampled orbit.
+# The largest energy error and position error in each sampled orbit:
 
 # %%
 energy_ellipse = ellipse.invariants["energy"]
@@ -164,7 +168,7 @@ for method, g in growth.items():
         f"{method:<16} {g.nfev.iloc[0] / LONG_ORBITS:6.0f} evaluations per "
         f"orbit; energy error {outputs.plain(g.energy_error.iloc[0])} in the first orbit, "
         f"{outputs.plain(g.energy_error.iloc[-1])} in orbit {LONG_ORBITS} (growth exponent "
-        f"{exponent:+.2f}); position error {outputs.plain(g.position_error.iloc[0])}, "
+        f"{outputs.signed(exponent)}); position error {outputs.plain(g.position_error.iloc[0])}, "
         f"{outputs.plain(g.position_error.loc[100])} in orbit 100, "
         f"{outputs.plain(g.position_error.iloc[-1])} in orbit {LONG_ORBITS}"))
 
@@ -202,59 +206,12 @@ print(outputs.wrapped(
 # RK4: at the same work it is 792 times smaller in the first orbit and 78
 # times in orbit 100.
 #
-# Now the check's verdict.  Its threshold is 0.3 of the solution's size:
-# on the exact orbit $0.3 \max|y|$ and $0.3 \max|y'|$.  We find the orbit
-# where each run's error in $y$ and in $y'$ passes it (interpolated
-# between the sampled orbits, `long_time.crossing`), and the orbit where
-# the check's sum passes it (the sum grows by the same amount every orbit).
-
-# %%
-exact_y, exact_yp = ellipse.reference(np.linspace(0.0, period_ellipse, 4001))
-threshold = {"y": check.ACCUMULATED_FRACTION * np.max(np.abs(exact_y)),
-             "yp": check.ACCUMULATED_FRACTION * np.max(np.abs(exact_yp))}
-print(f"threshold: {threshold['y']:.2f} in y, {threshold['yp']:.2f} in y'")
-for method, res in long_runs.items():
-    y_ref, yp_ref = ellipse.reference(res.t)
-    errors = {"y": np.max(np.abs(res.y - y_ref), axis=0),
-              "yp": np.max(np.abs(res.yp - yp_ref), axis=0)}
-    per_orbit = {k: v.reshape(windows.size, 64).max(axis=1) for k, v in errors.items()}
-    passes = {k: long_time.crossing(windows + 1, per_orbit[k], threshold[k]) for k in errors}
-    found = check_sums.get(int(method[-1])) if method.startswith("spline") else None
-    if found is None:
-        by_sum = ""
-    else:   # the sum grows by the same amount every orbit
-        by_sum = LONG_ORBITS * found["fraction"] * found["yp_scale"] / found["sum_yp"]
-        by_sum = f"; the check's sum near orbit {outputs.round_sig(by_sum, 2):,g}"
-    print(outputs.wrapped(
-        f"{method}: past the threshold in y near orbit {outputs.round_sig(passes['y'], 2):,g}, "
-        f"in y' near orbit {outputs.round_sig(passes['yp'], 2):,g}{by_sum}; in orbit "
-        f"{LONG_ORBITS}: {per_orbit['y'][-1]:.2g} in y, {per_orbit['yp'][-1]:.2g} in y'"))
-
-# %% [markdown]
-# The flag is a true alarm, not a false one: all three runs end further off
-# than the check's threshold, at errors of 7.1, 4.2 and 4.3 in $y$ (threshold
-# 1.50) and 0.97, 1.1 and 1.1 in $y'$ (threshold 0.30).  The Kepler problem damps
-# nothing; it is conservative, and a run's error of the period turns into a
-# phase error that grows with every orbit until the computed body is
-# anywhere on the orbit.
-#
-# It is not a sharp alarm.  The report's method is off by more than the
-# threshold in $y'$ near orbit 2.9, long before the check's sum reaches it
-# near orbit 230: a sum of local errors does not see an error that the
-# orbit amplifies (the check's documentation, `splinestep.check`, says
-# so).  The composition passes the threshold in $y'$ only near orbit 710:
-# for order 4 the check sums the estimates of one cubic step of the
-# composed step's size, that is the local errors of the report's method
-# (the same 13 in $y'$), not those of the composition, which are far
-# smaller.  A run of the composition that ends between orbits 230 and 710
-# would be flagged while within the threshold: a false alarm there.
-#
-# For the comparison this means: the position errors at orbit 10,000 are
-# those of three runs that have all lost the phase, and tell nothing of the
+# For the comparison: the position errors at orbit 10,000 are those of
+# three runs that have all lost the phase, and tell nothing of the
 # methods; the first orbit and orbit 100 do.  Where RK4's energy error
 # passes the composition's, near orbit 4290, the velocities of both runs
-# are past the threshold (RK4's from orbit 2,500 on): the composition's
-# bounded energy pays only in runs whose phase is lost anyway.
+# are far off (see the end): the composition's bounded energy pays only in
+# runs whose phase is lost anyway.
 
 # %% [markdown]
 # ### The cost against the other routes
@@ -314,7 +271,10 @@ outputs.save_data(comparison, "composition-ratios")
 # The figure shows both parts: the long run above, the work against
 # precision below.
 
-# %%
+# %% jupyter={"source_hidden": true}
+exact_y, exact_yp = ellipse.reference(np.linspace(0.0, period_ellipse, 4001))
+threshold = {"y": check.ACCUMULATED_FRACTION * np.max(np.abs(exact_y)),
+             "yp": check.ACCUMULATED_FRACTION * np.max(np.abs(exact_yp))}
 fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0))
 for method, g in growth.items():
     color = outputs.style_of(method)[0]
@@ -344,8 +304,8 @@ outputs.save_figure(fig, "composition")
 # %% [markdown]
 # Above, the two spline runs' energy errors (solid) are level lines, RK4's
 # climbs through the composition's near orbit 4290; the position errors
-# (dotted) all climb to the size of the orbit, through the check's
-# threshold (dashed grey) at the orbits printed above.  Below, on this short run
+# (dotted) all climb to the size of the orbit, through the step-size
+# check's threshold (dashed grey; the check's verdict is at the end).  Below, on this short run
 # DOP853 wins against both compositions and RK4 against order 4, while
 # order 6 costs about what RK4 does at low accuracy and less at high.
 #
@@ -359,3 +319,63 @@ outputs.save_figure(fig, "composition")
 # lost the phase, and the composition's one advantage over RK4 is an energy
 # error that does not grow, which at this work pays only beyond about 4300
 # orbits, in runs that the step-size check rightly flags.
+
+# %% [markdown]
+# ## How this was measured: the step-size check on the long runs
+#
+# Each spline run ends with its step-size check (`splinestep.check`),
+# which sums the local errors it estimates at every step.  Both long runs
+# are flagged: the sums pass 0.3 of the solution's size in $y'$, and the
+# warning says that, unless the equation damps them, the solution is off
+# by as much.  Whether it is, against the exact orbit: the threshold is
+# 0.3 of the solution's size, on the exact orbit $0.3 \max|y|$ and
+# $0.3 \max|y'|$.  We find the orbit
+# where each run's error in $y$ and in $y'$ passes it (interpolated
+# between the sampled orbits, `long_time.crossing`), and the orbit where
+# the check's sum passes it (the sum grows by the same amount every orbit).
+
+# %%
+for order, found in check_sums.items():
+    print(outputs.wrapped(f"order {order}: " + ("the sum not flagged" if found is None else
+          f"flagged; estimates summed over the run {found['sum_y']:g} in y, {found['sum_yp']:g} "
+          f"in y' (max |y| = {found['y_scale']:g}, max |y'| = {found['yp_scale']:g})")))
+print(f"threshold: {threshold['y']:.2f} in y, {threshold['yp']:.2f} in y'")
+for method, res in long_runs.items():
+    y_ref, yp_ref = ellipse.reference(res.t)
+    errors = {"y": np.max(np.abs(res.y - y_ref), axis=0),
+              "yp": np.max(np.abs(res.yp - yp_ref), axis=0)}
+    per_orbit = {k: v.reshape(windows.size, 64).max(axis=1) for k, v in errors.items()}
+    passes = {k: long_time.crossing(windows + 1, per_orbit[k], threshold[k]) for k in errors}
+    found = check_sums.get(int(method[-1])) if method.startswith("spline") else None
+    if found is None:
+        by_sum = ""
+    else:   # the sum grows by the same amount every orbit
+        by_sum = LONG_ORBITS * found["fraction"] * found["yp_scale"] / found["sum_yp"]
+        by_sum = f"; the check's sum near orbit {outputs.round_sig(by_sum, 2):,g}"
+    print(outputs.wrapped(
+        f"{method}: past the threshold in y near orbit {outputs.round_sig(passes['y'], 2):,g}, "
+        f"in y' near orbit {outputs.round_sig(passes['yp'], 2):,g}{by_sum}; in orbit "
+        f"{LONG_ORBITS}: {per_orbit['y'][-1]:.2g} in y, {per_orbit['yp'][-1]:.2g} in y'"))
+
+# %% [markdown]
+# The flag is a true alarm, not a false one: all three runs end further off
+# than the check's threshold, at errors of 7.1, 4.2 and 4.3 in $y$ (threshold
+# 1.50) and 0.97, 1.1 and 1.1 in $y'$ (threshold 0.30).  The Kepler problem damps
+# nothing; it is conservative, and a run's error of the period turns into a
+# phase error that grows with every orbit until the computed body is
+# anywhere on the orbit.
+#
+# It is not a sharp alarm.  The report's method is off by more than the
+# threshold in $y'$ near orbit 2.9, long before the check's sum reaches it
+# near orbit 230: a sum of local errors does not see an error that the
+# orbit amplifies (the check's documentation, `splinestep.check`, says
+# so).  The composition passes the threshold in $y'$ only near orbit 710:
+# for order 4 the check sums the estimates of one cubic step of the
+# composed step's size, that is the local errors of the report's method
+# (the same 13 in $y'$), not those of the composition, which are far
+# smaller.  A run of the composition that ends between orbits 230 and 710
+# would be flagged while within the threshold: a false alarm there.
+#
+# Where RK4's energy error passes the composition's, near orbit 4290, the
+# velocities of both runs are past the threshold (RK4's from orbit 2,500
+# on).

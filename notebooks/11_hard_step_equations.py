@@ -86,7 +86,7 @@ mean_step = 3.0 / adaptive.nstep
 # step equation are drawn on top of each other; a run that fails is marked
 # at its step along the top, with the time it reached.
 
-# %%
+# %% jupyter={"source_hidden": true}
 STYLE = {"fixed-point": ("o", 10, "C0", "fixed-point sweep"),
          "newton": ("x", 8, "C1", "Newton, kept matrix"),
          "newton (full)": ("+", 11, "C2", "full Newton")}

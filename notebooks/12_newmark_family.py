@@ -92,7 +92,7 @@ for name in NAMES:
 curves = pd.concat(curves, ignore_index=True)
 outputs.save_data(curves, "family-spectra")
 
-# %%
+# %% jupyter={"source_hidden": true}
 LABELS = {"spline": r"spline ($\beta = 1/6$)", "average-acceleration": r"average acc. ($\beta = 1/4$)",
           "fox-goodwin": r"Fox-Goodwin ($\beta = 1/12$)", "central-difference":
           r"central diff. ($\beta = 0$)", "hht": r"HHT ($\alpha_f = 0.1$)",

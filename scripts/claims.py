@@ -293,7 +293,8 @@ def against_rk4(m):
     rk4_slopes = slopes[slopes.method == "rk4"].slope
     ratios = (m.spline[ERRORS] / m.rk4[ERRORS]).stack()
     return row(
-        "Sec. 4", "comparison with RK4 at the same step",
+        "(none)", "the spline against RK4 at the same step (the report draws both, without a "
+        "verdict)",
         f"at dt = 0.01 RK4's errors are {ratios.min():.0f} to {sci(ratios.max(), 1)} times "
         f"smaller (energy, angular momentum, position; all four orbits); RK4 spends "
         f"{(m.rk4.nfev / m.rk4.nstep).max():.2f} evaluations per step, the spline "
@@ -555,7 +556,7 @@ def higher_order(m):
         return outputs.span(orders[orders.order == order][column].agg(["min", "max"]), decimals=2)
 
     return row(
-        "Sec. 5", "higher order",
+        "(none)", "higher order by symmetric composition of the step",
         f"symmetric compositions of the spline step (Yoshida): fitted slopes "
         f"{slopes(4, 'slope')} (order 4) and {slopes(6, 'slope')} "
         f"(order 6) on the four cannonball orbits and the rigid body (successive differences of "
@@ -662,7 +663,7 @@ def newmark_family(m):
     sizes = sorted({size for size, _ in chain.index})
     ratios = [chain[(size, "spline")] / chain[(size, "average-acceleration")] for size in sizes]
     return row(
-        "Sec. 2", "the report's member of Newmark's family (linear acceleration) against its "
+        "(none)", "the report's member of Newmark's family (linear acceleration) against its "
         "neighbours",
         f"period error on $y'' = -\\omega^2 y$ to leading order "
         f"${_leading(members.period_error['spline'])}$ for the report's member, "

@@ -284,3 +284,11 @@ def signed(value, decimals=2):
     a value that rounds to zero prints as "+0.00"."""
     text = f"{value:+.{decimals}f}"
     return text.replace("-", "+") if float(text) == 0 else text
+
+
+def rounding(value):
+    """A difference at the level of rounding errors, printed as a number
+    with one digit and marked "(rounding)": its digits differ between CPUs,
+    so the check of printed outputs (tests/nbval-sanitize.cfg) compares
+    the marker, not the digits."""
+    return f"{value:.0e} (rounding)"

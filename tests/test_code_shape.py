@@ -111,3 +111,23 @@ def test_no_function_over_the_limits(measure, limit):
     assert max(sizes.values()) > limit // 2   # the measure sees real functions
     over = {name: size for name, size in sizes.items() if size > limit}
     assert not over, over
+
+
+# A notebook's main line: a code cell a reader sees unfolded has at most
+# about 20 lines (blank lines not counted); figure code is folded (cell
+# metadata jupyter.source_hidden, which JupyterLab and the website read).
+MAX_CELL_LINES = 25
+
+
+def test_no_unfolded_notebook_cell_over_the_limit():
+    import jupytext
+    long = []
+    for path in sorted((SRC.parent / "notebooks").glob("[0-9][0-9]_*.py")):
+        for index, cell in enumerate(jupytext.read(path).cells):
+            folded = cell.metadata.get("jupyter", {}).get("source_hidden", False)
+            lines = [line for line in cell.source.splitlines() if line.strip()]
+            if cell.cell_type == "code" and not folded and len(lines) > MAX_CELL_LINES:
+                long.append((path.name, index, len(lines)))
+            if cell.cell_type == "code" and folded and "save_figure" not in cell.source:
+                long.append((path.name, index, "folded without a figure"))
+    assert not long, long

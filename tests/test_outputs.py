@@ -6,6 +6,7 @@ has now is not run again: its files are compared with git HEAD's."""
 
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -121,3 +122,17 @@ def test_readme_tables_are_the_data():
     text = (ROOT / "README.md").read_text()
     assert reproduce.readme_with_tables(text, ROOT / "data") == text
 
+
+
+def test_the_readme_opens_on_the_verdict_and_stays_short():
+    """A landing page: at most 150 lines, and what became of the report's
+    claims (the reproduced order, the bound of 1e-3, the built
+    improvements) before any section, "Run it" included."""
+    text = (ROOT / "README.md").read_text()
+    assert len(text.splitlines()) <= 150
+    opening = text.split("\n## ")[0]
+    for finding in ("Second order is reproduced", "10^{-3}", "are built and measured"):
+        assert finding in opening, finding
+    # every notebook named in the reading order, in the files' order
+    named = re.findall(r"`(\d\d_\w+)`", text.split("## Reading order")[1])
+    assert named == sorted(p.stem for p in (ROOT / "notebooks").glob("[0-9][0-9]_*.py"))

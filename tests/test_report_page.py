@@ -140,7 +140,7 @@ def test_the_readme_tables_link_to_headings_that_exist():
     assert link_problems(targets, ROOT) == []
 
 
-def test_notebook_05_links_to_headings_that_exist():
+def test_the_claims_notebook_links_to_headings_that_exist():
     cells = json.loads((ROOT / "notebooks" / "13_claims_and_errata.ipynb").read_text())["cells"]
     html = "".join("".join(o.get("data", {}).get("text/html", "")) for c in cells
                    for o in c.get("outputs", []))
