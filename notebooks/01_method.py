@@ -117,9 +117,10 @@ rk4_deviation = np.max(np.abs(phase.amplitude_factor_rk4 / phase.amplitude_facto
 
 # %%
 assert period_deviation < 1e-12 and spline_deviation < 1e-12 and rk4_deviation < 1e-10
-print(f"largest |measured period ratio / closed form - 1|: {outputs.rounding(period_deviation)}")
-print(f"largest |spline amplitude factor - 1|:              {outputs.rounding(spline_deviation)}")
-print(f"largest |RK4 amplitude factor / |R(ix)| - 1|:       {outputs.rounding(rk4_deviation)}")
+print(f"period ratio, measured / closed form - 1, largest:   {outputs.rounding(period_deviation)}")
+print(f"spline amplitude factor - 1, largest:                {outputs.rounding(spline_deviation)}")
+print(f"RK4 amplitude factor, measured / closed form - 1, largest: "
+      f"{outputs.rounding(rk4_deviation)}")
 print(f"RK4 amplitude factor from {phase.amplitude_factor_rk4.min():.4f} "
       f"to {phase.amplitude_factor_rk4.max():.4f}")
 flagged = phase[phase.step_flagged]

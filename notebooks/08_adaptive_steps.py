@@ -137,25 +137,15 @@ outputs.save_figure(fig, "adaptive-knots")
 
 # %% [markdown]
 # ### What rtol means: a tolerance on the global error
-# scipy's codes bound the error of each step.  A user reads rtol as the
-# accuracy of the answer, and for a low-order method the two are far apart:
-# bounding each step's error by rtol gives a step of order
-# $\mathrm{rtol}^{1/3}$ and a final error of order $\mathrm{rtol}^{2/3}$
-# times the span.
-#
-# The controller therefore bounds the error *per unit step* (Shampine,
-# 1989): each estimate is multiplied by $|t_f - t_0|/|h|$, so that the local
-# errors of a run sum to at most the tolerance.  For a problem that does not
-# amplify errors, the final error then follows rtol proportionally.
-#
-# We measure it on five problems, over
-# $\mathrm{rtol} = 10^{-3} \dots 10^{-8}$
-# ($\mathrm{atol} = 10^{-3}\,\mathrm{rtol}$), beside scipy's RK45 and DOP853
-# at the same tolerances (`splinestep.analysis.tolerance`).  The table gives
-# the final error divided by rtol times the solution's scale (its largest
-# $|y|$, or $|y'|$, over the span), and the slope of the error against
-# rtol.  The adaptive knots iterate each step to convergence (solve's
-# default); the runs with one sweep per step serve the next section.
+# scipy's codes bound the error of each step; for a second-order method
+# that gives a final error of order $\mathrm{rtol}^{2/3}$.  The controller
+# bounds the error *per unit step* instead (Shampine, 1989): each estimate
+# is multiplied by $|t_f - t_0|/|h|$, so that the local errors of a run sum
+# to at most the tolerance.  On five problems, rtol $= 10^{-3} \dots 10^{-8}$
+# ($\mathrm{atol} = 10^{-3}\,\mathrm{rtol}$), beside scipy's RK45 and
+# DOP853 (`splinestep.analysis.tolerance`): the final error over rtol times
+# the solution's scale (its largest $|y|$, or $|y'|$), and the slope of the
+# error against rtol.
 
 # %%
 RTOLS = 10.0 ** -np.arange(3, 9)
@@ -205,24 +195,16 @@ outputs.save_data(cost, "tolerance-cost")
 tolerance.ratio_ranges(cost)
 
 # %% [markdown]
-# When both runs iterate each step to convergence (solve's default, the
-# first column), the adaptive knots cost 0.57 to 1.06 times the uniform
-# evaluations on the oscillator and 0.78 to 1.07 on the forced Duffing
-# oscillator: cheaper or about even.  They cost 1.21 to 5.06 times on the
-# pendulum (closest to even at rtol $10^{-8}$) and 1.07 to 1.14 on the
-# rational problem.  On the Kepler orbit they cost 0.027 to 0.036 times
-# the uniform evaluations, a saving of 28 to 37 times (the largest at rtol
-# $10^{-3}$).
-#
-# That verdict depends on how the uniform run solves each step.  Once the
-# oscillator's step is fine, an iterated step stops after 2 sweeps, and
-# 1 sweep reaches the same error at half the evaluations.  Against a uniform
-# run with 2 sweeps the oscillator's knots cost 0.85 to 1.09, about even;
-# against 1 sweep, 1.65 to 2.16: the uniform step is cheaper.  Against one
-# sweep the uniform step is cheaper on each of the four problems other than
-# the Kepler orbit (1.20 to 4.13).  With one sweep on both sides, the cheapest form of
-# each (last column), the knots cost 1.07 to 2.11 times the uniform
-# evaluations on those four problems, and 0.020 to 0.021 on the orbit.
+# Both iterated (the first column), the knots cost 0.57 to 1.06 times the
+# uniform evaluations on the oscillator, 0.78 to 1.07 on the forced Duffing
+# oscillator, 1.21 to 5.06 on the pendulum and 1.07 to 1.14 on the
+# rational problem; on the Kepler orbit 0.027 to 0.036, a saving of 28 to
+# 37 times.  The verdict depends on how the uniform run solves each step:
+# against 2 sweeps the oscillator's knots cost 0.85 to 1.09, against 1
+# sweep 1.65 to 2.16; against one sweep the uniform step is cheaper on all
+# four problems other than the Kepler orbit (1.20 to 4.13).  With one
+# sweep on both sides (last column) the knots cost 1.07 to 2.11 times the
+# uniform evaluations on those four, and 0.020 to 0.021 on the orbit.
 
 # %% jupyter={"source_hidden": true}
 fig = plt.figure(figsize=(outputs.WIDTH, 5.8))  # the whole figure in a JupyterLab pane
@@ -304,13 +286,10 @@ pd.DataFrame({"uniform / adaptive, 1 sweep": (1 / one.ratio).round(1),
 
 # %% [markdown]
 # ### Where the knots should go
-# Why the pendulum does not pay, and what the orbit could gain: knots placed
-# in advance with density $\propto |y''''|^a$ along the reference solution
-# (`tolerance.graded_knots`), each step iterated, against uniform knots of
-# the same number.  The controller's knots follow $a = 1/2$ (every step's
-# error per unit step the same); $a = 1/3$ minimises the sum of the local
-# errors $h^3|y''''|/12$ of $y'$ for a given number of steps; $a = 0$ is
-# uniform.  The table gives the final error over the uniform run's:
+# Knots placed in advance with density $\propto |y''''|^a$ along the
+# reference solution (`tolerance.graded_knots`) against uniform knots of the
+# same number: $a = 1/2$ is the controller's grading, $a = 1/3$ minimises
+# the sum of the local errors of $y'$.  Final error over the uniform run's:
 
 # %%
 graded = pd.concat([tolerance.graded_runs(study[name], (0, 1 / 3, 1 / 2), counts).assign(problem=name)
@@ -320,18 +299,14 @@ graded.pivot_table(index=["problem", "n"], columns="exponent", values="error_ove
                    sort=False).rename(columns=lambda a: f"a = {a:.2g}").map(lambda r: f"{r:.2g}")
 
 # %% [markdown]
-# On the pendulum every grading by the local error loses to uniform knots:
-# the errors made near the bottom of the swing, where $|y''''|$ is largest,
-# cancel between the way down and the way up, so the knots they attract
-# are wasted.  No controller that follows the local error matches uniform
-# steps there, and the controller's grading loses more than $a = 1/3$.  On
-# the orbit both gradings win by far, and $a = 1/3$ is about 6 times more
-# accurate than $a = 1/2$ at the same cost: about 2.5 times fewer steps at
-# equal error (order 2).  A controller that bounds each step's error gives
-# $a = 1/3$, but its global error then follows rtol$^{2/3}$, not rtol
-# (bounding each step's error by $\tau$ takes $N \propto \tau^{-1/3}$ steps,
-# whose errors add to $N\tau \propto \tau^{2/3}$); the controller here
-# keeps the proportionality and leaves that factor.
+# On the pendulum every grading loses to uniform knots: the errors made
+# near the bottom of the swing, where $|y''''|$ is largest, cancel between
+# the way down and the way up, so the knots they attract are wasted.  On
+# the orbit both win by far, and $a = 1/3$ is about 6 times more accurate
+# than $a = 1/2$: about 2.5 times fewer steps at equal error.  A controller
+# that bounds each step's error gives $a = 1/3$, but then its global error
+# follows rtol$^{2/3}$; this one keeps the proportionality and leaves that
+# factor.
 
 # %% [markdown]
 # ## The long-time picture of variable steps
