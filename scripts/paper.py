@@ -6,8 +6,10 @@ No network (no Typst Universe packages), only the fonts Typst ships
 same sources give the same bytes on any machine.
 
     python scripts/paper.py [OUTPUT.pdf]
+    python scripts/paper.py --pages     each figure's first reference and page
 """
 
+import json
 import platform
 import re
 import sys
@@ -22,6 +24,9 @@ PDF = ROOT / "paper" / "splinestep.pdf"
 MACHINE = ROOT / "data" / "machine.txt"
 FIGURE_SOURCES = ROOT / "paper" / "figure-sources.csv"
 SAVED_FIGURE = re.compile(r"save_figure\(\s*\w+,\s*\"([^\"]+)\"")
+# A figure the paper keeps the caption of but does not show: #fig("NAME", ...,
+# instead: "OTHER"), OTHER showing the same.
+UNSHOWN_FIGURE = re.compile(r'#fig\("([^"]+)",(?:(?!#fig\().)*?instead:', re.S)
 
 
 def machine_description():
@@ -48,11 +53,13 @@ def figure_sources(root=ROOT):
     paper shows the figures (that of its ``#fig("NAME", ...)`` calls, which
     Typst numbers in order); a figure the paper does not show comes last."""
     paper = (Path(root) / SOURCE.relative_to(ROOT)).read_text()
+    unshown = set(UNSHOWN_FIGURE.findall(paper))
     rows = []
     for script in sorted((Path(root) / "notebooks").glob("[0-9][0-9]_*.py")):
         for name in SAVED_FIGURE.findall(script.read_text()):
             place = paper.find(f'#fig("{name}"')
-            rows.append((place if place >= 0 else len(paper), name, script.stem))
+            shown = place >= 0 and name not in unshown
+            rows.append((place if shown else len(paper), name, script.stem))
     lines = ["figure,notebook"] + [f"{name},notebooks/{stem}.ipynb" for _, name, stem in sorted(rows)]
     return "\n".join(lines) + "\n"
 
@@ -71,7 +78,38 @@ def query(selector):
     return typst.query(str(SOURCE), selector, root=str(ROOT), ignore_system_fonts=True)
 
 
+# The paper followed by a query of its own layout: for each figure, the page of
+# its first reference and the page its caption is set on (a float's own
+# location is where its call stands in the text, not the page it lands on;
+# every figure has a caption, so figures and captions pair up in order).
+FIGURE_PAGES = """#include "/paper/splinestep.typ"
+#context {
+  let rows = ()
+  for (f, caption) in query(figure).zip(query(figure.caption)) {
+    if f.kind != image or not f.has("label") { continue }
+    let refs = query(ref.where(target: f.label)).map(r => r.location().page())
+    rows.push((name: str(f.label).slice(4), number: f.counter.at(f.location()).first(),
+               first: if refs.len() > 0 { calc.min(..refs) }, page: caption.location().page()))
+  }
+  [#metadata(rows) <figure-pages>]
+}
+"""
+
+
+def figure_pages(root=ROOT):
+    """Each figure of the paper: its number, name, the page of its first
+    reference and the page it is set on."""
+    found = typst.query(FIGURE_PAGES.encode(), "<figure-pages>", root=str(root),
+                        ignore_system_fonts=True)
+    return json.loads(found)[0]["value"]
+
+
 if __name__ == "__main__":
+    if "--pages" in sys.argv:
+        for row in figure_pages():
+            print(f"Figure {row['number']:2d} {row['name']:30s} first referred to on "
+                  f"p. {row['first']}, set on p. {row['page']}")
+        sys.exit()
     target = Path(sys.argv[1]) if len(sys.argv) > 1 else PDF
     FIGURE_SOURCES.write_text(figure_sources())
     if "--machine" in sys.argv:

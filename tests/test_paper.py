@@ -24,10 +24,30 @@ def built(tmp_path_factory):
     return first, second
 
 
+def unshown():
+    """{figure the paper does not show: the figure it shows instead}
+    (``#fig(NAME, ..., instead: OTHER)``: the two show the same)."""
+    return {m["value"]["name"]: m["value"]["instead"]
+            for m in json.loads(paper.query("<unshown-figure>"))}
+
+
 def test_every_figure_is_in_the_paper():
+    """Each figure is shown, but one that repeats a figure the paper shows."""
     sources = {Path(image["source"]).stem for image in json.loads(paper.query("image"))}
     figures = {path.stem for path in (ROOT / "figures").glob("*.pdf")}
-    assert figures <= sources, f"figures not in the paper: {sorted(figures - sources)}"
+    left_out = unshown()
+    assert figures - set(left_out) <= sources, (
+        f"figures not in the paper: {sorted(figures - set(left_out) - sources)}")
+    assert not set(left_out) & sources
+    assert set(left_out.values()) <= sources
+
+
+def test_every_figure_is_set_near_its_first_reference():
+    """Each figure is set on the page of its first reference or the next."""
+    far = [f"Figure {row['number']} ({row['name']}): first referred to on p. {row['first']}, "
+           f"set on p. {row['page']}" for row in paper.figure_pages()
+           if row["first"] is None or row["page"] - row["first"] not in (0, 1)]
+    assert not far, far
 
 
 @pytest.mark.parametrize("label, name, column", [("claim-row", "claims", "claim"),
@@ -61,7 +81,8 @@ def test_every_figure_is_cited_in_the_text():
     """Each figure is referred to (@fig-NAME) where the text discusses it; the
     table of figure sources names figures by number, not by reference."""
     cited = {ref["target"] for ref in json.loads(paper.query("ref"))}
-    figures = {f"<fig-{path.stem}>" for path in (ROOT / "figures").glob("*.pdf")}
+    figures = {f"<fig-{path.stem}>" for path in (ROOT / "figures").glob("*.pdf")
+               if path.stem not in unshown()}
     assert figures <= cited, f"figures never cited: {sorted(figures - cited)}"
 
 
