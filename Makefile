@@ -89,7 +89,8 @@ browser:
 # Notebooks run at once by make reproduce, and pytest-xdist workers of make
 # test (each notebook's cells stay on one worker).
 JOBS ?= 2
-PYTEST := $(BIN)/python -m pytest -n $(JOBS) --dist loadfile --no-loadscope-reorder
+PYTEST := $(BIN)/python -m pytest -n $(JOBS) --dist loadfile --no-loadscope-reorder \
+	--nbval --nbval-current-env --nbval-sanitize-with tests/nbval-sanitize.cfg notebooks tests
 
 test: $(STAMP) $(FAST_IMPORT)
 	SPLINESTEP_RERUN=$(RERUN) $(PYTEST) $(if $(JUNIT),--junitxml=build/junit.xml)

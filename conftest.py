@@ -22,18 +22,24 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent
 sys.path[:0] = [str(ROOT / "scripts"), str(ROOT / "tests")]
-import freshness  # noqa: E402
-import reproduce  # noqa: E402
-from notebook_runs import (done_marker, notebook_of, notebooks_in, reproduced,  # noqa: E402
-                           wait_for_notebooks)
+try:   # the notebooks' tooling (environment.txt): without it, the package's tests alone
+    import freshness  # noqa: E402
+    import reproduce  # noqa: E402
+    from jupyter_client.channels import HBChannel  # noqa: E402
+    from notebook_runs import (done_marker, notebook_of, notebooks_in, reproduced,  # noqa: E402
+                               wait_for_notebooks)
+except ImportError:
+    reproduce = None
 
 
 def pytest_configure(config):
+    os.environ.setdefault("MPLBACKEND", "Agg")
+    if reproduce is None:
+        return
     if "SPLINESTEP_OUTPUT" not in os.environ:  # set once, inherited by the workers
         os.environ["SPLINESTEP_OUTPUT"] = tempfile.mkdtemp(prefix="splinestep-outputs-")
     if not hasattr(config, "workerinput"):  # the controller: no markers of an earlier session
         shutil.rmtree(done_marker("any").parent, ignore_errors=True)
-    os.environ.setdefault("MPLBACKEND", "Agg")
     if not hasattr(config, "workerinput"):  # the controller decides, the workers inherit
         skipped = _not_run_again()
         os.environ["SPLINESTEP_REPRODUCED"] = json.dumps(skipped)
@@ -80,15 +86,13 @@ def _stop_heartbeat(channel, seconds=10.0):
         channel.close()
 
 
-def _bounded_heartbeat_stop():
-    from jupyter_client.channels import HBChannel
+if reproduce is not None:
     HBChannel.stop = _stop_heartbeat
 
 
-_bounded_heartbeat_stop()
-
-
 def pytest_runtest_setup(item):
+    if reproduce is None:
+        return
     stem = notebook_of(item)
     if stem in reproduce.LAST and stem not in _STARTED:
         _STARTED.add(stem)
@@ -96,6 +100,8 @@ def pytest_runtest_setup(item):
 
 
 def pytest_runtest_teardown(item, nextitem):
+    if reproduce is None:
+        return
     stem = notebook_of(item)
     if stem and (nextitem is None or notebook_of(nextitem) != stem):
         done_marker(stem).parent.mkdir(exist_ok=True)
@@ -108,6 +114,10 @@ COMPARISONS = "test_outputs.py"
 
 
 def pytest_report_header(config):
+    if reproduce is None:
+        return ("the package's tests alone: the notebooks' tooling (environment.txt) is not "
+                "installed, so the repository's checks of its notebooks, data, paper and site "
+                "are not collected (tests/conftest.py)")
     if reproduced():
         return ("notebooks not run again (make reproduce ran them here with the inputs they have "
                 "now; their outputs are compared with git HEAD's; RERUN=1 runs them): "
@@ -127,6 +137,8 @@ def pytest_collection_modifyitems(config, items):
     a long file when the other has run out of work: the notebooks in
     ``reproduce.ORDER`` (longest first), the website's browser test after the
     two longest, then the rest in their order."""
+    if reproduce is None:
+        return
     kept = [item for item in items if notebook_of(item) not in reproduced()]
     if len(kept) < len(items):
         config.hook.pytest_deselected(items=[i for i in items if i not in kept])

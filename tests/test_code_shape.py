@@ -120,7 +120,7 @@ MAX_CELL_LINES = 25
 
 
 def test_no_unfolded_notebook_cell_over_the_limit():
-    import jupytext
+    jupytext = pytest.importorskip("jupytext", reason="reads the notebooks (the repository's tooling)")
     long = []
     for path in sorted((SRC.parent / "notebooks").glob("[0-9][0-9]_*.py")):
         for index, cell in enumerate(jupytext.read(path).cells):

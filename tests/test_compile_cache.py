@@ -72,7 +72,7 @@ def test_a_cache_stamp_covers_the_modules_a_loop_imports_and_no_other(tmp_path, 
     or of a test problem invalidates nothing the loop is made of."""
     import shutil
     loop = splinestep.driver._drive
-    locator = _compile._InTree.from_function(loop, loop.__code__.co_filename)
+    locator = _compile._UserCache.from_function(loop, loop.__code__.co_filename)
     original = locator.get_source_stamp()
     assert original == _compile.source_stamp(_compile.PACKAGE / "driver.py")
     copy = tmp_path / "splinestep"

@@ -367,11 +367,18 @@ def cache_folder():
     return base / "adapters"
 
 
+def loops_folder():
+    """Where numba caches the package's compiled step loops: ``loops``
+    beside :func:`cache_folder` (or a temporary folder of this process when
+    that cannot be written)."""
+    return _writable_folder(cache_folder().parent / "loops")
+
+
 _TEMPORARY = []
 
 
-def _writable_folder():
-    folder = cache_folder()
+def _writable_folder(folder=None):
+    folder = cache_folder() if folder is None else folder
     try:
         folder.mkdir(parents=True, exist_ok=True)
         probe = tempfile.NamedTemporaryFile(dir=folder, delete=True)
@@ -379,8 +386,9 @@ def _writable_folder():
         return folder
     except OSError:
         if not _TEMPORARY:
-            _TEMPORARY.append(Path(tempfile.mkdtemp(prefix="splinestep-adapters-")))
-        return _TEMPORARY[0]
+            _TEMPORARY.append(Path(tempfile.mkdtemp(prefix="splinestep-cache-")))
+        (_TEMPORARY[0] / folder.name).mkdir(exist_ok=True)
+        return _TEMPORARY[0] / folder.name
 
 
 def source(kind, function, kinds, stamp):

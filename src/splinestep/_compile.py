@@ -50,6 +50,33 @@ from numba.core import caching, event
 from . import _adapters
 from ._base import Adapted, is_adapted
 
+# The parts of numba's on-disk cache (numba.core.caching) that this module
+# extends: not all of them public, so each is checked here, and a numba
+# without one is refused with a message rather than failing later.
+NUMBA_CACHE_PARTS = ("CacheImpl._locator_classes", "IndexDataCacheFile.save",
+                     "IndexDataCacheFile.load", "UserProvidedCacheLocator",
+                     "_SourceFileBackedLocatorMixin.from_function")
+
+
+def missing_numba_parts(module=caching):
+    """The names of :data:`NUMBA_CACHE_PARTS` that ``module`` lacks."""
+    def has(name):
+        found = module
+        for part in name.split("."):
+            found = getattr(found, part, None)
+            if found is None:
+                return False
+        return True
+    return [name for name in NUMBA_CACHE_PARTS if not has(name)]
+
+
+if missing_numba_parts():   # pragma: no cover (tests/test_install.py runs it in a subprocess)
+    import numba
+    raise ImportError(
+        f"splinestep extends numba's on-disk cache, and numba {numba.__version__} lacks "
+        f"numba.core.caching.{', numba.core.caching.'.join(missing_numba_parts())}; "
+        f"splinestep is tested with numba 0.62 to 0.68 (pyproject.toml's bound)")
+
 
 PACKAGE = Path(__file__).resolve().parent
 
@@ -141,16 +168,23 @@ class _PackageStamp:
         return super().from_function(py_func, py_file)
 
 
-class _UserProvided(_PackageStamp, caching.UserProvidedCacheLocator):
-    pass
+class _UserCache(_PackageStamp, caching.UserProvidedCacheLocator):
+    """The package's compiled loops in the user's cache folder
+    (:func:`splinestep._adapters.loops_folder`: ``SPLINESTEP_CACHE_DIR``,
+    ``NUMBA_CACHE_DIR``/splinestep or ~/.cache/splinestep, then ``loops``),
+    never beside the installed source: an uninstall leaves nothing in the
+    package's folder, and a read-only install compiles once per user."""
 
+    def __init__(self, py_func, py_file):
+        super().__init__(py_func, py_file)
+        self._cache_path = str(_adapters.loops_folder() / self.get_suitable_cache_subpath(py_file))
 
-class _InTree(_PackageStamp, caching.InTreeCacheLocator):
-    pass
-
-
-class _UserWide(_PackageStamp, caching.UserWideCacheLocator):
-    pass
+    @classmethod
+    def from_function(cls, py_func, py_file):
+        if not Path(py_file).resolve().is_relative_to(PACKAGE):
+            return None
+        # numba's source-file check and writable folder, not its NUMBA_CACHE_DIR condition
+        return super(caching.UserProvidedCacheLocator, cls).from_function(py_func, py_file)
 
 
 class _CompileTime(event.Listener):
@@ -181,8 +215,8 @@ def compile_seconds():
     return _COMPILING.seconds
 
 
-# Tried first, in numba's own order; other modules fall through to numba's.
-caching.CacheImpl._locator_classes[:0] = [_UserProvided, _InTree, _UserWide]
+# Tried first; other modules fall through to numba's own locators.
+caching.CacheImpl._locator_classes[:0] = [_UserCache]
 
 
 # numba saves a cache entry by reading the function's index, choosing a free

@@ -4,7 +4,9 @@ steps is measured in :mod:`splinestep.analysis.tolerance`.
 """
 
 import numpy as np
-import pandas as pd
+from . import require
+
+pd = require("pandas", __name__)
 
 from .. import solve
 

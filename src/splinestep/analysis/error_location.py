@@ -11,7 +11,9 @@ apoapsis (r > outer).
 """
 
 import numpy as np
-import pandas as pd
+from . import require
+
+pd = require("pandas", __name__)
 
 from .. import problems
 

@@ -50,7 +50,9 @@ import functools
 from fractions import Fraction
 
 import numpy as np
-import sympy as sp
+from . import require
+
+sp = require("sympy", __name__)
 
 from .. import members as _members
 

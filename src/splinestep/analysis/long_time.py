@@ -17,7 +17,9 @@ import re
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
-import pandas as pd
+from . import require
+
+pd = require("pandas", __name__)
 
 from ..problems import kepler
 from ..problems import first_order

@@ -26,7 +26,9 @@ References
 import warnings
 
 import numpy as np
-import sympy as sp
+from . import require
+
+sp = require("sympy", __name__)
 
 from .. import problems
 from ..spline import solve
@@ -449,7 +451,7 @@ def constants_table(frame):
         zeros kept, so that every value shows the digits it was measured to;
         an exact 0 as ``0``).
     """
-    import pandas as pd
+    pd = require("pandas", __name__)
     return pd.DataFrame({
         "quantity": list(frame["quantity"]),
         "derived": [sp.sstr(value, order="rev-lex").replace("*", "") for value in frame["exact"]],

@@ -18,7 +18,9 @@ each adaptive run, runs it, and compares the evaluations of the two runs.
 """
 
 import numpy as np
-import pandas as pd
+from . import require
+
+pd = require("pandas", __name__)
 
 from .. import problems as _problems
 from .. import solve

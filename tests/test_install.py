@@ -1,0 +1,72 @@
+"""The package as a library a user installs: what a missing optional
+dependency says, and what the base install needs."""
+
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+
+def run_without(module, code):
+    """Run ``code`` in a new interpreter in which ``module`` cannot be imported."""
+    script = f"import sys; sys.modules[{module!r}] = None\n" + textwrap.dedent(code)
+    return subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+
+
+@pytest.mark.parametrize("module, user", [("pandas", "tolerance"), ("sympy", "theory"),
+                                          ("sympy", "family"), ("pandas", "long_time")])
+def test_a_missing_extra_is_named_with_the_command_that_installs_it(module, user):
+    done = run_without(module, f"from splinestep.analysis import {user}")
+    assert done.returncode != 0
+    last = done.stderr.strip().splitlines()[-1]
+    assert last.startswith("ImportError: splinestep.analysis." + user + f" needs {module}")
+    assert "pip install 'splinestep[analysis]'" in last
+
+
+def test_the_solver_needs_no_extra():
+    """numpy, scipy and numba only: without pandas, sympy and matplotlib
+    the solver imports and solves."""
+    done = run_without("pandas", """
+        sys.modules["sympy"] = sys.modules["matplotlib"] = None
+        import numpy as np, splinestep
+        res = splinestep.solve(lambda t, y, yp: -y, (0.0, 1.0), [1.0], [0.0], h=0.01)
+        print(res.status, abs(res.y[0, -1] - np.cos(1.0)) < 1e-4)
+        """)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["0", "True"]
+
+
+def test_a_numba_without_the_cache_parts_splinestep_extends_is_refused_by_name():
+    """splinestep extends numba's on-disk cache through names not all of
+    which are public: a numba without one of them is refused at import,
+    naming it."""
+    script = textwrap.dedent("""
+        import numba.core.caching as caching
+        del caching.CacheImpl._locator_classes
+        import splinestep
+        """)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    last = done.stderr.strip().splitlines()[-1]
+    assert last.startswith("ImportError: splinestep extends numba's on-disk cache"), last
+    assert "numba.core.caching.CacheImpl._locator_classes;" in last
+
+
+def test_the_compiled_loops_are_cached_in_the_user_cache_folder_not_beside_the_source(tmp_path):
+    """A solve in a new process writes numba's cache of the package's loops
+    below SPLINESTEP_CACHE_DIR/loops and nothing into the package's folder."""
+    import os
+    from pathlib import Path
+
+    import splinestep
+    package = Path(splinestep.__file__).parent
+    before = {p for p in package.rglob("*") if p.suffix in (".nbi", ".nbc")}
+    env = dict(os.environ, SPLINESTEP_CACHE_DIR=str(tmp_path / "cache"))
+    script = ("import splinestep; splinestep.solve(lambda t, y, yp: -y, (0.0, 1.0), [1.0], "
+              "[0.0], h=0.1)")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env)
+    assert done.returncode == 0, done.stderr
+    after = {p for p in package.rglob("*") if p.suffix in (".nbi", ".nbc")}
+    assert after == before
+    written = list((tmp_path / "cache" / "loops").rglob("*.nbi"))
+    assert any("driver" in p.name for p in written), written
