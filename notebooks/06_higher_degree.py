@@ -1,5 +1,5 @@
 # %% [markdown]
-# # Higher-degree splines: the report's suggestion, and why it fails
+# # Higher-degree splines: the report's suggestion, and where it fails
 #
 # The report suggests "higher-order polynomial splines" with more
 # continuity.  This notebook builds them as the report writes them and
@@ -151,12 +151,14 @@ print(f"the same, y'(0) raised by h^2 y'''(0) / 12: error {offset_error:.1e}")
 # Degree 4 converges with fitted order 4.00 (one orbit, steps 0.04 to
 # 0.01; $5.5 \times 10^{-10}$ at the report's step, where the cubic's is
 # $4.1 \times 10^{-3}$), but started with $y'''(0) = 0$ its error is
-# $3.2 \times 10^{-3}$, about the cubic's.  That error is not the
-# parasitic mode's: the wrong $y'''(0)$ shifts the velocity of the first
-# steps by $-h^2 y'''(0)/12$, and from that offset the orbit drifts
-# smoothly, an error of order 2.  Started with $y'(0)$ raised by
-# $h^2 y'''(0)/12$ (and the same wrong $y'''(0)$), the error falls to
-# $9.6 \times 10^{-9}$.  Last, degree 4 on the damped
+# $3.2 \times 10^{-3}$, about the cubic's.  The wrong start does two
+# things.  It excites the parasitic mode, which never decays but costs
+# almost nothing in position here; and it shifts the velocity of the
+# principal solution by $-h^2 y'''(0)/12$ (the knots' velocities alternate
+# about that mean), from which the orbit drifts smoothly, an error of
+# order 2.  Started with $y'(0)$ raised by $h^2 y'''(0)/12$ (and the same
+# wrong $y'''(0)$), the error falls to $9.6 \times 10^{-9}$: the shift, not
+# the parasitic mode, is the error.  Last, degree 4 on the damped
 # oscillator $y'' = -y - c\, y'$ with $c = 0.5$, from its exact
 # $y'''(0) = c$ (at $t = 0$, $y''' = -y' - c\, y'' = c$):
 
@@ -213,8 +215,8 @@ outputs.save_figure(fig, "higher-degree-splines")
 # method is zero-stable, and it converges with order 4.  But only weakly:
 # the root's perturbation $-(1 + c h/3)$ leaves the circle as soon as the
 # equation is damped ($c > 0$), and the parasitic mode then grows like
-# $e^{c t/3}$ while the solution decays; and a wrong $y'''(0)$ excites
-# that mode, which never decays.  Usable, in the strict sense of the theory,
+# $e^{c t/3}$ while the solution decays; and a wrong $y'''(0)$ shifts the
+# velocity and so costs order 2.  Usable, in the strict sense of the theory,
 # are degree 3 (the report's method) and degree 4 for undamped problems with
 # exact starting derivatives; degrees 5 and 6 diverge for every $h$.  The
 # fourth-order method that keeps the cubic's good behaviour is built in

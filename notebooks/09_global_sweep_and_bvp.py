@@ -246,8 +246,9 @@ print(f"Bratu with lambda = 4 > {problems.boundary.LAMBDA_CRITICAL:.4f} (no solu
 # solved.  `solve_bvp(..., tol=)` also estimates the error of $y$: it solves
 # again on the mesh with every interval halved, and, the method being of
 # order 2, takes $\tfrac43 (y_h - y_{h/2})$ as the error of $y_h$.  While that
-# exceeds tol (relative to $\max(1, \max|y|)$) it halves the mesh, up to
-# `max_nodes`.
+# exceeds tol (relative to $\max(1, \max|y|)$) it refines the mesh where
+# the spline's truncation error is largest (each such interval split into
+# up to four), up to `max_nodes`.
 #
 # The lower Bratu branch, from 11 points, at three tolerances:
 

@@ -628,14 +628,14 @@ def boundary_value_problems(m):
         f"in every run) uses {bratu.scipy_points.min()} to {bratu.scipy_points.max()} nodes for "
         f"errors {sci(bratu.scipy_error.min(), 1)} to {sci(bratu.scipy_error.max(), 1)}; at the "
         f"same number of nodes the spline's error is {sci(np.nanmin(per_node), 1)} to "
-        f"{sci(np.nanmax(per_node), 1)} times larger. With tol, the mesh is halved until "
-        f"the error estimated by mesh halving is within it: lower branch from 11 points, tol "
+        f"{sci(np.nanmax(per_node), 1)} times larger. With tol, the mesh is refined where "
+        f"the error is largest until the error estimated by mesh halving is within it: lower branch from 11 points, tol "
         f"{', '.join(f'{v:g}' for v in runs.tol)} end on "
         f"{', '.join(str(v) for v in runs.points)} points, the estimate "
         f"{estimate_over_true.min():.3f} to {estimate_over_true.max():.3f} times the true error",
         "a finding beyond the report: the global sweep, built, solves them by second-order "
         "spline collocation, far less accurate per node than scipy's, with "
-        "a tolerance on the solution (mesh halving); a run without solution ends as failed, "
+        "a tolerance on the solution (estimated by mesh halving); a run without solution ends as failed, "
         "with a message, and so does a problem whose solution does not converge with the mesh "
         "($y'' = -y$, $y(0) = 0$, $y(\\pi) = 1$, which has none)",
         "beyond the report", "09_global_sweep_and_bvp", "Boundary value problems")
