@@ -11,8 +11,16 @@ no request leaves the site's folder; each notebook page shows each figure
 its notebook writes, with the paper's caption.  Every page is opened at a
 laptop's width (1366 x 900) and a phone's (390 x 844, as a phone: touch,
 overlay scrollbars): no page is wider than the window, and nothing of its
-text, printed output, code, formulas or tables is cut off (see
+text, printed output, code, formulas, tables or sidebars is cut off (see
 :func:`test_every_page_in_a_browser`).
+
+What the build writes into the pages (website/pages.py) is checked too:
+the landing page (the findings, the notebooks by number, the claims
+tables; no build instructions), the guide's examples with what each
+printed, the findings page's links to the notebooks and its figures, the
+paper's abstract with the numbers of data/headline-numbers.csv; a cell
+folded in JupyterLab is collapsed with its outputs in view; an example
+that raises fails the build.
 
 The browser is Debian's ``chromium`` (``make browser`` installs it, and
 ``.ci/run`` runs that first), driven by playwright from environment.txt with
@@ -33,6 +41,7 @@ sys.path.insert(0, str(ROOT / "scripts"))
 sys.path.insert(0, str(ROOT / "website"))
 import build_site  # noqa: E402
 import notebook_reader  # noqa: E402
+import pages  # noqa: E402
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 # Flags for a machine with no network: no background requests, no sandbox as root.
@@ -133,6 +142,11 @@ LAYOUT = r"""() => {
       if (box.scrollWidth <= box.clientWidth + 8) continue;
       if (!scrolls(box)) problems.push(`formula cut off (${cut(box)}): ${name(m)}`);
       else scrolling(box, 'formula');
+      // a displayed formula that scrolls says so where it is cut: a shade
+      // at its right edge (which a phone's overlaid scrollbar does not)
+      if (scrolls(box) && box.matches('div.math') && box.scrollLeft == 0
+          && !box.parentElement.classList.contains('ss-more'))
+        problems.push(`formula scrolls with no shade at its edge: ${name(m)}`);
     }
   }
   // anything else past the window's right edge, but in a box that scrolls
@@ -145,6 +159,48 @@ LAYOUT = r"""() => {
   }
   if (root.scrollWidth > width + 1) problems.push(`page ${root.scrollWidth} px wide`);
   return {width: root.scrollWidth, problems};
+}"""
+
+# What of a sidebar is cut at its edge: at a laptop's width the sidebars as
+# they stand, at a phone's each in the drawer its button opens.  A sidebar
+# that scrolls sideways, or an entry past its right edge, is cut.
+SIDEBARS = r"""async () => {
+  const frame = () => new Promise(done => requestAnimationFrame(() => requestAnimationFrame(done)));
+  const problems = [];
+  const check = (box, what) => {
+    const limit = box.getBoundingClientRect().left + box.clientLeft + box.clientWidth;
+    if (box.scrollWidth > box.clientWidth + 1)
+      problems.push(`${what} scrolls sideways (${box.scrollWidth} px in ${box.clientWidth})`);
+    // the text itself (a link's box may be wider than its words)
+    const walk = document.createTreeWalker(box, NodeFilter.SHOW_TEXT);
+    const range = document.createRange();
+    for (let node; (node = walk.nextNode());) {
+      if (!node.textContent.trim() || !node.parentElement.checkVisibility()) continue;
+      range.selectNodeContents(node);
+      const r = range.getBoundingClientRect();
+      if (r.width > 0 && r.right > limit + 1) {
+        const entry = node.parentElement.closest('a, li') || node.parentElement;
+        problems.push(`${what}: "${entry.textContent.trim().slice(0, 60)}" cut at its edge`);
+        break;
+      }
+    }
+  };
+  for (const [side, toggle] of [['primary', '.primary-toggle'], ['secondary', '.secondary-toggle']]) {
+    const sidebar = document.getElementById(`pst-${side}-sidebar`);
+    if (sidebar && sidebar.checkVisibility() && sidebar.offsetWidth > 0) {
+      check(sidebar, `the ${side} sidebar`);
+      continue;
+    }
+    const button = document.querySelector(toggle);
+    const dialog = document.getElementById(`pst-${side}-sidebar-modal`);
+    if (!button || !dialog || !button.checkVisibility()) continue;
+    button.click();
+    await frame();
+    if (dialog.open) check(dialog, `the ${side} sidebar's drawer`);
+    dialog.close();
+    await frame();
+  }
+  return problems;
 }"""
 
 
@@ -202,13 +258,193 @@ def test_every_figure_has_the_papers_caption(site):
 
 
 def test_long_code_cells_are_collapsed_and_short_ones_shown(site):
+    """Long cells behind "Show code cell source", cells folded in JupyterLab
+    behind their own summary (test_a_folded_cell_is_collapsed_with_its_outputs_shown)."""
     page = (site / "notebooks" / "02_cannonball.html").read_text()
     assert "Show code cell source" in page
     import nbformat
     cells = nbformat.read(NOTEBOOKS[1], as_version=4).cells
-    long_cells = [c for c in cells if c.cell_type == "code"
+    long_cells = [c for c in cells if c.cell_type == "code" and not notebook_reader.folded(c)
                   and len(c.source.splitlines()) > notebook_reader.SHOWN_LINES]
     assert page.count("Show code cell source") == len(long_cells) > 0
+
+
+def tiny_notebook():
+    """A notebook of a plotting cell folded in JupyterLab, with printed text
+    and an image as outputs, and a short cell that is not folded."""
+    import nbformat
+    from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook, new_output
+    png = ("iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNk+M9QDwADhgGAWjR9awAAAABJRU5ErkJggg==")
+    folded = new_code_cell("fig, ax = plt.subplots()\nax.plot([0, 1])\nprint('drawn', 'and', 'folded')",
+                           metadata={"jupyter": {"source_hidden": True}},
+                           outputs=[new_output("stream", name="stdout", text="drawn and folded\n"),
+                                    new_output("display_data", data={"image/png": png,
+                                                                     "text/plain": "<Figure>"})])
+    shown = new_code_cell("answer = 6 * 7\nprint(answer)",
+                          outputs=[new_output("stream", name="stdout", text="42\n")])
+    notebook = new_notebook(cells=[new_markdown_cell("# A tiny notebook"), folded, shown],
+                            metadata={"kernelspec": {"name": "python3", "display_name": "Python 3",
+                                                     "language": "python"},
+                                      "language_info": {"name": "python"}})
+    return nbformat.writes(notebook)
+
+
+def test_a_folded_cell_is_collapsed_with_its_outputs_shown(tmp_path):
+    """A cell JupyterLab shows folded (``{"jupyter": {"source_hidden":
+    true}}``, a percent script's ``# %% jupyter={"source_hidden": true}``)
+    is read by the site's reader and built by myst-nb as the site builds
+    notebooks: its code inside a closed <details> under "Show the plotting
+    code", its printed text and figure after it, in view; a cell that is not
+    folded shows its code."""
+    import jupytext
+    from sphinx.cmd.build import build_main
+    script = jupytext.reads('# %% jupyter={"source_hidden": true}\nax.plot([0, 1])\n\n'
+                            '# %%\nprint(1)\n', fmt="py:percent")
+    assert [notebook_reader.folded(c) for c in script.cells] == [True, False]
+
+    source = tmp_path / "source"
+    source.mkdir()
+    (source / "tiny.ipynb").write_text(tiny_notebook())
+    (source / "conf.py").write_text(
+        f"import sys\nsys.path.insert(0, {str(ROOT / 'website')!r})\n"
+        "import notebook_reader\n"
+        "extensions = ['myst_nb']\nroot_doc = 'tiny'\nnb_execution_mode = 'off'\n"
+        "nb_custom_formats = {'.ipynb': ['notebook_reader.read', {}, False]}\n"
+        "nb_merge_streams = True\n")
+    import contextlib
+    import io
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()) as err:
+        code = build_main(["-q", "-W", "-E", "-b", "html", str(source), str(tmp_path / "html")])
+    assert code == 0, err.getvalue()
+    html = (tmp_path / "html" / "tiny.html").read_text()
+    folded = re.search(r"<details[^>]*>(.*?)</details>", html, flags=re.S)
+    assert folded and "Show the plotting code" in folded.group(1)
+    assert "subplots" in folded.group(1) and "drawn and folded" not in folded.group(1)
+    after = html[folded.end():]
+    assert "drawn and folded" in after and "<img" in after      # the outputs, in view
+    assert html.count("<details") == 1 and "6</span>" in after and "42" in after
+
+
+def test_an_example_that_raises_fails_the_build(tmp_path):
+    """The guide's examples run in one process, in order, in one namespace;
+    what each prints is written under it; the first that raises stops the
+    build with the example, its line and its traceback."""
+    page = tmp_path / "page.md"
+    page.write_text("# A page\n\n```python\nx = 6 * 7\nprint('x is', x)\n```\n\nText.\n\n"
+                    "```python\nimport warnings\nwarnings.warn('careful')\nprint(x + 1)\n```\n")
+    examples = pages.Examples(page, root=tmp_path).start()
+    assert examples.printed() == ["x is 42\n", "UserWarning: careful\n43\n"]
+    shown = pages.Examples(page, root=tmp_path).start().with_outputs()
+    assert shown.count(":class: ss-example-output") == 2 and "x is 42\n```" in shown
+    assert shown.index("x is 42") < shown.index("Text.")
+
+    page.write_text(page.read_text() + "\n```python\nprint('before')\n1 / (x - 42)\n```\n")
+    with pytest.raises(pages.ExampleFailed, match=r"example 3 \(the Python block at line 16\)"
+                       r"(.|\n)*before(.|\n)*ZeroDivisionError"):
+        pages.Examples(page, root=tmp_path).start().printed()
+
+
+def test_the_guide_shows_what_each_example_prints(site):
+    """Each example of the guide that prints has its output under it, on
+    the built page."""
+    blocks = pages.Examples(ROOT / "website" / "guide.md").blocks()
+    page = (site / "website" / "guide.html").read_text()
+    printing = [b for b in blocks if "print(" in b]
+    assert page.count('class="ss-example-output') == len(printing) > 0
+    assert "observed order 2.00" in page
+
+
+def test_the_landing_page_is_for_its_reader(site):
+    """The landing page says what the project found and where to go next;
+    it does not ask its reader to build the site; the claims and errata
+    tables are the README's; the numbers its prose gives are inputs or
+    computed (tests/test_prose_numbers.py's rule), those of the findings
+    read from data/headline-numbers.csv when the site is built."""
+    import test_prose_numbers as prose
+    page = (site / "README.html").read_text()
+    assert "make site" not in page and "build/site" not in page
+    assert "{headline}" not in page and "{notebooks}" not in page
+    text = (ROOT / "website" / "landing.md").read_text()
+    for name in re.findall(r"\{headline\}`([^`]+)`", re.sub(r"<!--.*?-->", "", text, flags=re.S)):
+        assert pages.headline(name) in page.replace("&nbsp;", "\u00a0"), name
+    for table in ("claims", "errata"):
+        rows = [line for line in pages.readme_table(table).splitlines()[2:] if line.startswith("|")]
+        assert page.count("<tr") >= len(rows) > 0
+    words = re.sub(r"\{headline\}`[^`]*`|<!--.*?-->", " ", text, flags=re.S)
+    words = re.sub(r"```.*?```", " ", words, flags=re.S)
+    words = re.sub(r"\]\([^)]*\)", "]", words)
+    candidates = prose.np.array([v for script in prose.NOTEBOOKS
+                                 for v in prose.output_numbers(script.with_suffix(".ipynb"))]
+                                + prose.data_numbers())
+    assert prose.unexplained(words, candidates) == []
+
+
+def test_the_sidebar_lists_the_notebooks_by_number(site):
+    """The sidebar (and the landing page) list the notebooks by number,
+    each under its number, the claims notebook last."""
+    page = (site / "README.html").read_text()
+    sidebar = page[page.index('class="bd-sidebar-primary'):]
+    listed = re.findall(r'href="notebooks/(\d\d)_\w+\.html">\s*(\d\d) \u00b7 ', sidebar)
+    numbers = [n for n, _ in listed]
+    assert numbers == sorted(p.stem[:2] for p in NOTEBOOKS)
+    assert all(a == b for a, b in listed) and numbers[-1] == "13"
+    article = page[page.index('<article'):page.index('</article>')]
+    assert re.findall(r'href="notebooks/(\d\d)_\w+\.html">', article[article.index("Where to go next"):]
+                      )[:len(numbers)] == numbers
+
+
+def test_the_findings_link_the_notebooks_and_show_the_figures(site):
+    """Every notebook the findings page names is a link to its page, and
+    each figure it shows is the paper's, with the paper's caption as alt
+    text, linked to the figure on its notebook's page."""
+    import html
+    text = (ROOT / "website" / "findings.md").read_text()
+    linked = re.sub(r"\[[^\]]*\]\(\.\./notebooks/\d\d_\w+\.ipynb(#[^)]*)?\)", " ", text)
+    assert not re.findall(r"\b\d\d_[a-z_]+|notebook \d\d|notebooks/", linked)
+    assert "../figures/" not in text
+    page = (site / "website" / "findings.html").read_text()
+    names = re.findall(r"```\{paper-figure\} ([\w-]+)", text)
+    assert len(names) >= 8
+    captions = notebook_reader.captions()
+    where = pages.figure_notebooks()
+    for name in names:
+        image = re.search(r'<img alt="([^"]*)" src="\.\./_images/%s\.png"' % re.escape(name), page)
+        assert image and html.unescape(image.group(1)) == captions[name], name
+        assert f'href="../{where[name]}.html#fig-{name}"' in page, name
+
+
+def test_the_paper_page_has_the_abstract_and_the_pdf(site):
+    """The paper's page gives the title, the abstract with the numbers the
+    paper reads from data/headline-numbers.csv, its sections and a link
+    to the PDF."""
+    page = (site / "website" / "paper.html").read_text().replace("&nbsp;", "\u00a0")
+    source = (ROOT / "paper" / "splinestep.typ").read_text()
+    block = source[source.index("*Abstract.*"):]
+    block = block[:block.index("])")]
+    names = re.findall(r'#n\("([^"]+)"\)', block)
+    assert names
+    for name in names:
+        assert pages.headline(name) in page, name
+    assert "#n(" not in page and "{abstract}" not in page
+    assert "Newmark's linear-acceleration method" in page
+    assert re.search(r'href="[^"]*_downloads/[^"]*/splinestep\.pdf"', page)
+    for section in pages.paper_sections():
+        assert section.replace("'", "&#x27;") in page or section in page, section
+
+
+def test_typst_prose_as_markdown():
+    """The abstract's Typst: a number of the data, math, a citation; what
+    the site does not know is an error, not text."""
+    name = next(iter(pages.headline_numbers()))
+    text = pages.typst_markup_as_markdown(f'*Strong* at #n("{name}"), $10^(-3)$, '
+                                          '$omega h < sqrt(12)$ @report.')
+    assert text.startswith("**Strong** at " + pages.headline(name))
+    assert "$10^{-3}$" in text and "$\\omega h < \\sqrt{12}$" in text and "report.md" in text
+    assert pages.as_unicode("4.1e-03") == "4.1\u00a0\u00d7\u00a010\u207b\u00b3"
+    for bad in ('#claim("x")', '$arrow.r$', '#n("no such number")', "@nobody"):
+        with pytest.raises((ValueError, KeyError)):
+            pages.typst_markup_as_markdown(bad)
+
 
 
 def test_captions_as_plain_text():
@@ -293,6 +529,7 @@ def read_pages(browser, site, window):
         layout = page.evaluate(LAYOUT)
         widths[str(path.relative_to(site))] = layout["width"]
         problems += [f"{name}: {problem}" for problem in layout["problems"]]
+        problems += [f"{name}: {problem}" for problem in page.evaluate(SIDEBARS)]
     context.close()
     return problems, outside, failed, widths
 
@@ -319,7 +556,12 @@ def test_every_page_in_a_browser(readings, window):
     - a table wider than the window is in a wrapper that scrolls in the
       same way;
     - a formula is not cut off by more than a glyph's overhang (8 px) at
-      the edge of its box, MathJax's or the one around it, or scrolls."""
+      the edge of its box, MathJax's or the one around it, or scrolls; a
+      displayed one that scrolls has a shade at its right edge;
+    - nothing of the sidebars (the notebooks and pages, a page's
+      contents) reaches past their right edge or makes them scroll
+      sideways: at the laptop's width as they stand, at the phone's in the
+      drawer each one's button opens."""
     problems, outside, failed, widths = readings[window]
     assert not problems, problems
     assert not outside, f"requests outside the site: {outside[:5]}"

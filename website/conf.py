@@ -1,6 +1,9 @@
-"""Sphinx configuration of the website: the README as its landing page, the
-notebooks with the outputs stored in their .ipynb (nothing is executed) and
-the paper's PDF, readable with no network (MathJax from the environment).
+"""Sphinx configuration of the website: a landing page for its reader
+(website/landing.md, shown in the README's place), the notebooks with the
+outputs stored in their .ipynb (nothing is executed), the manual (the
+guide's examples run as the site is built, their printed output shown) and
+the paper's abstract and PDF, readable with no network (MathJax from the
+environment).
 
 Built by ``scripts/build_site.py`` (``make reproduce`` or ``make site``) into
 ``build/site``; the source folder is the repository root, of which only the
@@ -14,12 +17,15 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import docstrings  # noqa: E402  (the source folder is the repository root)
 import notebook_reader  # noqa: E402
+import pages  # noqa: E402
 
 project = "splinestep"
 author = "the splinestep authors"
 copyright = "the splinestep authors"
 root_doc = "README"
 include_patterns = ["README.md", "notebooks/[0-9][0-9]_*.ipynb", "website/*.md"]
+# The landing page's text, read into the README's page (pages.landing).
+exclude_patterns = ["website/landing.md"]
 # The API reference (website/api.md) is written from the docstrings, which
 # are numpydoc: what help() shows is what the site shows.
 extensions = ["myst_nb", "sphinx.ext.autodoc", "sphinx.ext.napoleon"]
@@ -64,7 +70,14 @@ mathjax2_config = {"tex2jax": {"processEscapes": True}, "messageStyle": "none",
 
 
 def setup(app):
+    # The landing page in the README's place first, then its table of contents.
+    app.connect("source-read", pages.page_contents, priority=400)
     app.connect("source-read", notebook_reader.site_contents)
+    # The guide's examples run while the other pages are read.
+    app.connect("builder-inited", pages.run_examples)
+    app.connect("build-finished", pages.stop_examples)
+    app.add_role("headline", pages.headline_role)
+    app.add_directive("paper-figure", pages.PaperFigure)
     # Before napoleon turns the numpydoc sections into reStructuredText.
     app.connect("autodoc-process-docstring", docstrings.as_rst, priority=100)
     app.connect("build-finished", notebook_reader.copy_mathjax)

@@ -4,11 +4,14 @@
 the stored notebook, its HTML outputs' links to other notebooks and pages
 leading to their pages and their formulas in the site's delimiters
 (:func:`site_html`), with every code cell longer than :data:`SHOWN_LINES`
-lines collapsed behind a "show code" toggle (its outputs stay in view), and
+lines collapsed behind a "show code" toggle, and every cell folded in
+JupyterLab (:func:`folded`, the plotting code) collapsed behind "Show the
+plotting code" (the outputs of both stay in view), and
 each figure a notebook writes given the paper's caption for it, as caption
 and as alt text.  Nothing is executed.
 """
 
+import json
 import re
 import shutil
 import sys
@@ -24,6 +27,8 @@ from reproduce import LAST  # noqa: E402  (the notebooks read last, and listed l
 
 # Code cells of more lines than this are collapsed on the site.
 SHOWN_LINES = 12
+# A folded cell that draws: matplotlib's calls, or the figure saved.
+PLOTTING = re.compile(r"\b(plt|ax|axes|fig)\b\.|\bsave_figure\(|\.plot\(")
 # Typst math names: the Greek letters and a few symbols.
 _SYMBOLS = {**outputs.GREEK, "dots": "…", "in": "∈", "times": "×", "approx": "≈"}
 
@@ -90,14 +95,29 @@ def read(text, path=None):
             if html:
                 output["data"]["text/html"] = site_html("".join(html) if isinstance(html, list) else html)
         tags = cell.metadata.setdefault("tags", [])
-        if len(cell.source.splitlines()) > SHOWN_LINES and "hide-input" not in tags:
+        mystnb = cell.metadata.setdefault("mystnb", {})
+        if folded(cell):
+            # folded in JupyterLab: collapsed here too, under what it is
+            kind = "the plotting code" if PLOTTING.search(cell.source) else "the code"
+            mystnb["code_prompt_show"] = f"Show {kind}"
+            mystnb["code_prompt_hide"] = f"Hide {kind}"
+            if "hide-input" not in tags:
+                tags.append("hide-input")
+        elif len(cell.source.splitlines()) > SHOWN_LINES and "hide-input" not in tags:
             tags.append("hide-input")
         names = SAVED_FIGURE.findall(cell.source)
         if len(names) == 1 and names[0] in known:
             caption = known[names[0]]
-            cell.metadata["mystnb"] = {"image": {"alt": caption},
-                                       "figure": {"caption": caption, "name": f"fig-{names[0]}"}}
+            mystnb.update({"image": {"alt": caption},
+                           "figure": {"caption": caption, "name": f"fig-{names[0]}"}})
     return notebook
+
+
+def folded(cell):
+    """True for a code cell whose source JupyterLab shows folded: the
+    metadata ``{"jupyter": {"source_hidden": true}}`` (in a percent script,
+    ``# %% jupyter={"source_hidden": true}``)."""
+    return bool(cell.get("metadata", {}).get("jupyter", {}).get("source_hidden"))
 
 
 def copy_mathjax(app, exception):
@@ -115,19 +135,32 @@ MANUAL = ("guide", "api", "scipy", "step-size-check", "fast-path", "speed", "fin
           "report", "layout")
 
 
+def notebook_pages(root=ROOT):
+    """[(stem, title)] of the notebooks in reading order: by number, the
+    claims notebook (which collects the others' verdicts, ``LAST``) last;
+    the title is the notebook's first heading."""
+    stems = sorted((p.stem for p in (Path(root) / "notebooks").glob("[0-9][0-9]_*.ipynb")),
+                   key=lambda stem: (stem in LAST, stem))
+    found = []
+    for stem in stems:
+        cells = json.loads((Path(root) / "notebooks" / f"{stem}.ipynb").read_text())["cells"]
+        sources = ("".join(c["source"]) for c in cells if c["cell_type"] == "markdown")
+        headings = (re.search(r"^# (.+)$", s, flags=re.M) for s in sources)
+        title = next((h.group(1).strip() for h in headings if h), stem)
+        found.append((stem, title.replace("`", "")))
+    return found
+
+
 def site_contents(app, docname, source):
-    """Sphinx's source-read: the README (the landing page) ends with the
-    site's table of contents, the notebooks in reading order, the manual's
-    pages and the paper (hidden: the sidebar shows it; the README lists them
-    in its own words)."""
+    """Sphinx's source-read: the landing page (the README's page) ends with
+    the site's table of contents, the notebooks in reading order, each
+    under its number, the manual's pages and the paper (hidden: the sidebar
+    shows it; the landing page lists them in its own words)."""
     if docname != "README":
         return
-    # The README's reading order: by number, the claims notebook (which
-    # collects the others' verdicts) last.
-    pages = sorted((p.stem for p in (ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb")),
-                   key=lambda stem: (stem in LAST, stem))
     lines = ["", "```{toctree}", ":hidden:", ":caption: Notebooks", ""]
-    lines += [f"notebooks/{page}" for page in pages]
+    lines += [f"{stem[:2]} · {title} <notebooks/{stem}>"
+              for stem, title in notebook_pages(app.srcdir)]
     lines += ["```", "", "```{toctree}", ":hidden:", ":caption: Manual", ""]
     lines += [f"website/{page}" for page in MANUAL]
     lines += ["```", "", "```{toctree}", ":hidden:", ":caption: Paper", "", "website/paper", "```"]

@@ -14,9 +14,12 @@
       scrolls).
    2. A box that still scrolls sideways gets a shade at its right edge
       until it is scrolled to its end.
-   3. A formula wider than the column scrolls (the theme cuts it off).
+   3. A formula wider than the column scrolls (the theme cuts it off); a
+      displayed one gets the shade of 2 as well.
    4. Each image of the text is a link to its file: a click opens the
-      figure at full size. */
+      figure at full size.
+   5. A long name in the sidebars (the API page's contents) may break
+      after an underscore or a dot. */
 (function () {
   "use strict";
 
@@ -95,7 +98,7 @@
 
   function splitPre(pre) {
     if (pre.classList.contains("ss-lines")) return;
-    const printed = !!pre.closest(".cell_output, .output");
+    const printed = !!pre.closest(".cell_output, .output, .ss-example-output");
     const nodes = lines(pre);
     const texts = nodes.map(function (line) {
       return line.map(function (n) { return n.textContent; }).join("");
@@ -212,11 +215,44 @@
     }).forEach(function (math) { math.classList.add("ss-wide-math"); });
   }
 
+  // A wide displayed formula: in a frame that shades its right edge while
+  // there is more to scroll to, as a box of code.
+  function frameMath() {
+    document.querySelectorAll(".bd-article div.math.ss-wide-math").forEach(function (math) {
+      if (math.parentElement.classList.contains("ss-frame")) {
+        shade(math);
+        return;
+      }
+      frame(math);
+      math.parentElement.classList.add("ss-math-frame");
+    });
+    document.querySelectorAll(".bd-article .ss-math-frame > div.math:not(.ss-wide-math)")
+      .forEach(shade);
+  }
+
+  // Long names in the sidebars (the API page's contents) may break after an
+  // underscore or a dot.
+  function breakNames() {
+    const selector = ".bd-sidebar-primary code span.pre, .bd-sidebar-secondary code span.pre";
+    document.querySelectorAll(selector).forEach(function (span) {
+      if (span.querySelector("wbr") || !/[._]\w/.test(span.textContent)) return;
+      const parts = span.textContent.split(/(?<=[._])(?=\w)/);
+      span.replaceChildren();
+      parts.forEach(function (part, index) {
+        if (index > 0) span.append(document.createElement("wbr"));
+        span.append(document.createTextNode(part));
+      });
+    });
+  }
+
   function afterMath() {
     if (window.MathJax && MathJax.Hub && MathJax.Hub.Register) {
-      MathJax.Hub.Register.StartupHook("End", function () { MathJax.Hub.Queue(wideMath); });
+      MathJax.Hub.Register.StartupHook("End", function () {
+        MathJax.Hub.Queue(wideMath, frameMath);
+      });
     } else {
       wideMath();
+      frameMath();
     }
   }
 
@@ -235,6 +271,7 @@
   }
 
   function start() {
+    breakNames();
     document.querySelectorAll(".bd-article pre").forEach(splitPre);
     linkImages();
     document.querySelectorAll(".bd-article pre, .bd-article .pst-scrollable-table-container, " +
@@ -248,8 +285,9 @@
       window.requestAnimationFrame(function () {
         pending = false;
         document.querySelectorAll(".bd-article pre.ss-lines").forEach(hangs);
-        document.querySelectorAll(".bd-article .ss-frame > *").forEach(shade);
         wideMath();
+        frameMath();
+        document.querySelectorAll(".bd-article .ss-frame > *").forEach(shade);
       });
     });
     // a collapsed code cell opened: its lines' indents, its shade
