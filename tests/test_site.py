@@ -446,6 +446,27 @@ def test_typst_prose_as_markdown():
             pages.typst_markup_as_markdown(bad)
 
 
+def test_the_speed_page_counts_the_fixed_costs_from_its_table():
+    """The speed page's prose on the step-size check's share of a whole
+    solve (fixed costs as large as the steps' own time at m = 10 and 100)
+    agrees with the check's table on the same page."""
+    text = (ROOT / "website" / "speed.md").read_text()
+    rows = dict((m, (float(c), float(w))) for m, c, w in re.findall(
+        r"^\| (10|100) \| ([\d.e+-]+) s \| ([\d.e+-]+) s \| [\d.]+% \|$", text, flags=re.M))
+    prose = text[text.index('The last table\'s "whole run"'):text.index("<!-- begin scaling -->")]
+    prose = " ".join(prose.split())
+    steps_shown = re.search(r"the whole run less the check: ([\d.]+) s and ([\d.]+) s", prose)
+    for (m, (check, whole)), shown_steps in zip(sorted(rows.items(), key=lambda r: int(r[0])),
+                                                steps_shown.groups()):
+        steps = whole - check
+        table_share, whole_share = check / whole, check / (whole + steps)
+        assert abs(float(shown_steps) - steps) < 1e-9 + 1e-3 * steps, (m, steps)
+        shown = re.search(rf"from (\d+) % to about (\d+) % at m = {m}\b", prose)
+        assert shown, m
+        assert int(shown.group(1)) == round(100 * table_share)
+        assert abs(int(shown.group(2)) - 100 * whole_share) <= 2.5, (m, whole_share)
+    assert set(rows) == {"10", "100"}
+
 
 def test_captions_as_plain_text():
     """Typst math in a caption becomes Unicode text."""
