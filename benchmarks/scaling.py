@@ -385,8 +385,9 @@ def render(rows, crossover, checks, sizes, machine):
                     for m, d, s in crossover])
     lines += ["", "**The step-too-large check's share** of the fixed-point sweep's run over "
               "the chain's whole span, the run's time its time per step times its steps (its "
-              "fixed costs left out, which at m = 10 and 100 are about as large as the steps': "
-              "there the share of a whole solve is nearer 60 %)", ""]
+              "fixed costs left out; at m = 10 and 100 they are about as large as the steps', "
+              "so that there the check's share of a whole solve is smaller than the table's: "
+              "see the paragraph above the tables)", ""]
     lines += table(["m", "check", "whole run", "share"],
                    [[f"{m:,}", f"{c:.3g} s", f"{w:.3g} s", f"{c / w:.2%}"]
                     for m, c, w in checks])
