@@ -70,3 +70,37 @@ def test_the_compiled_loops_are_cached_in_the_user_cache_folder_not_beside_the_s
     assert after == before
     written = list((tmp_path / "cache" / "loops").rglob("*.nbi"))
     assert any("driver" in p.name for p in written), written
+
+
+def test_solve_shows_its_options_in_its_signature():
+    """help(), IDEs and the API page read the options from the signature:
+    every option of solve is a keyword-only parameter with its default."""
+    import inspect
+
+    import splinestep
+    from splinestep import spline
+    parameters = inspect.signature(splinestep.solve).parameters
+    for name in spline._OPTIONS:
+        assert parameters[name].kind is inspect.Parameter.KEYWORD_ONLY, name
+    assert parameters["tol"].default == spline._OPTIONS["tol"]
+    assert parameters["method"].default == "spline"
+
+
+@pytest.mark.parametrize("grid", [dict(h=0.1), dict(knots=[0.0, 0.3, 1.0])])
+def test_a_tolerance_given_with_a_fixed_grid_is_said_to_be_ignored(grid):
+    import warnings
+
+    import numpy as np
+
+    import splinestep
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        bounded = splinestep.solve(lambda t, y, yp: -y, (0.0, 1.0), 1.0, 0.0, rtol=1e-8,
+                                   atol=1e-9, check=False, **grid)
+    said = [str(w.message) for w in caught if "adaptive knots only" in str(w.message)]
+    assert said == ["rtol and atol apply to adaptive knots only (neither h nor knots given) "
+                    "and are ignored with a fixed grid"]
+    plain = splinestep.solve(lambda t, y, yp: -y, (0.0, 1.0), 1.0, 0.0, check=False, **grid)
+    np.testing.assert_array_equal(bounded.y, plain.y)   # ignored indeed
+    with pytest.raises(ValueError, match="unknown options \\['rtl'\\]"):
+        splinestep.solve(lambda t, y, yp: -y, (0.0, 1.0), 1.0, 0.0, rtl=1e-8, **grid)

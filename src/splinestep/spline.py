@@ -87,7 +87,10 @@ def composition(order):
 
 
 def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), events=None,
-          dense_output=False, order=2, **options):
+          dense_output=False, order=2, method="spline", mass=None, iteration="fixed-point",
+          iterations=None, tol=1e-12, max_iter=50, jac=None, rtol=None, atol=None,
+          first_step=None, max_step=None, max_steps=_base.MAX_STEPS, reuse_jacobian=True,
+          check=True, y_max=np.inf, **others):
     """Solve y'' = F(t, y, y') by cubic-spline time stepping.
 
     Each step extends a C2 cubic spline by one knot and satisfies the ODE at
@@ -145,9 +148,6 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         O(h^6) between knots in y, its nu-th derivative O(h^(6 - nu)), so y,
         y' and the events keep the order of the run (4 or 6) and y'' at
         order 6 is O(h^4) between knots.
-    **options
-        The keywords below, as scipy's ``solve_ivp`` passes its solver's
-        options; any other is a ValueError naming it.
     method : str, (float, float) or Member
         The member of Newmark's family that takes each step
         (:mod:`splinestep.members`): "spline" (the report's method, Newmark's
@@ -250,7 +250,10 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         solve, so that a step of a linear problem costs one solve.
     rtol, atol : float or array_like of shape (m,)
         Adaptive knots (neither ``h`` nor ``knots`` given): tolerances on
-        the global error.  Each step's estimated local errors of y and y'
+        the global error, by default 1e-3 and 1e-6 (a run with neither
+        ``h``, ``knots`` nor ``rtol`` is adaptive at these).  Given with
+        ``h`` or ``knots``, they (and ``first_step``, ``max_step``) are
+        ignored with a warning that says so.  Each step's estimated local errors of y and y'
         (from the jump of the spline's third derivative,
         :mod:`splinestep.controllers`), per unit step and times the span
         |tf - t0|, must be at most atol + rtol |y| in scipy's scaled RMS
@@ -311,6 +314,9 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         stepwise run of ``solve``, checked or not.  Not with
         ``iteration="global"`` (ValueError).
 
+    **others
+        Any other keyword is a ValueError naming it.
+
     Returns
     -------
     OdeResult
@@ -359,7 +365,11 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     """
     t0, tf = _base.check_span(t_span, backward=True)
     y0, yp0 = _base.check_state(y0, yp0)
-    opts = _options(options)
+    given = dict(method=method, mass=mass, iteration=iteration, iterations=iterations, tol=tol,
+                 max_iter=max_iter, jac=jac, rtol=rtol, atol=atol, first_step=first_step,
+                 max_step=max_step, max_steps=max_steps, reuse_jacobian=reuse_jacobian,
+                 check=check, y_max=y_max)
+    opts = _options(given, others, adaptive=h is None and knots is None)
     if np.max(np.abs(y0)) > opts["y_max"]:
         raise ValueError(f"y_max = {opts['y_max']:g} is below the largest |y0|, "
                          f"{np.max(np.abs(y0)):g}")
@@ -406,10 +416,23 @@ _OPTIONS = dict(method="spline", mass=None, iteration="fixed-point", iterations=
                 max_steps=_base.MAX_STEPS, reuse_jacobian=True, check=True, y_max=np.inf)
 
 
-def _options(options):
-    """The keyword options of :func:`solve` with their defaults; an unknown
-    name is a ValueError naming it."""
-    opts = _base.check_options(options, _OPTIONS, "solve")
+# Options of adaptive knots only: with h or knots they are ignored, and said so.
+ADAPTIVE_ONLY = ("rtol", "atol", "first_step", "max_step")
+
+
+def _options(given, others, adaptive):
+    """The keyword options of :func:`solve`, the adaptive ones at their
+    defaults where not given; an unknown name is a ValueError naming it,
+    and an adaptive option given with a fixed grid a warning."""
+    _base.check_options(others, _OPTIONS, "solve")
+    ignored = [name for name in ADAPTIVE_ONLY if given[name] is not None and not adaptive]
+    if ignored:
+        warnings.warn(f"{' and '.join(ignored)} {'applies' if len(ignored) == 1 else 'apply'} "
+                      "to adaptive knots only (neither h nor knots given) and "
+                      f"{'is' if len(ignored) == 1 else 'are'} ignored with a fixed grid",
+                      UserWarning, stacklevel=3)
+    opts = dict(_OPTIONS, **{k: v for k, v in given.items()
+                             if v is not None or k not in ADAPTIVE_ONLY})
     opts["max_steps"] = _base.check_max_steps(opts["max_steps"])
     opts["check"] = _base.check_flag(opts["check"], "check")
     y_max = opts["y_max"]
