@@ -113,8 +113,10 @@ print(outputs.wrapped(
 # periapsis passage (the last step, cut to end the period, is
 # $3.0 \times 10^{-4}$).  At apoapsis itself ($r = 19.00$) the
 # step drops to 0.56: the error norm weighs each velocity component by its
-# own size, and $x'$ passes through zero there.  Both, with the estimate
-# against the true local error, step by step:
+# own size, and $x'$ passes through zero there.  It dips deeper, by more
+# than a decade, where $y'$ passes through zero, at the ends of the minor
+# axis ($r = a = 10$).  Both, with the estimate against the true local
+# error, step by step:
 
 # %% jupyter={"source_hidden": true}
 fig, ax = plt.subplots(figsize=(outputs.WIDTH, 3.2))

@@ -240,6 +240,8 @@ chain = outputs.read_data("family-chain")
 for row in chain.itertuples():
     print(f"m = {row.m:5d} {row.member:21s} omega_m h = {row.omega_m_h:6.2f}: {row.nstep:5d} "
           f"steps, {row.iterations:5d} iterations, error {row.error:.1e}")
+
+# %%
 steps = chain.pivot(index="m", columns="member", values="nstep")
 for m, row in steps.iterrows():
     print(f"m = {m:5d}: the report's member takes {row['spline'] / row['average-acceleration']:.1f} "
