@@ -21,6 +21,8 @@
 #                    controller on a stiff system (benchmarks/controller.py)
 #   make lab         JupyterLab at the repository root, .py <-> .ipynb pairs active
 #   make test-emulated   the tests with numpy's newer CPU kernels switched off, as on another CPU
+#   make test-bounds     the package's tests alone, installed from this checkout into fresh
+#                    venvs: the oldest declared dependencies (Python 3.11) and the newest (3.13)
 #   make opensees-reference   run OpenSees (openseespy, in a venv of its own under build/) on the
 #                    problems of scripts/opensees_reference.py and rewrite tests/data/opensees/,
 #                    which tests/test_opensees.py compares every member of the family with
@@ -43,7 +45,7 @@ export PYTHONDONTWRITEBYTECODE :=
 # what another CPU's rounding does (names not present on a CPU are ignored).
 EMULATED_CPU := NPY_DISABLE_CPU_FEATURES="AVX512_ICL AVX512_SPR X86_V4 X86_V3" NUMBA_CPU_NAME=generic
 
-.PHONY: reproduce paper site browser test test-emulated bench lab env clean opensees-reference
+.PHONY: reproduce paper site browser test test-emulated test-bounds bench lab env clean opensees-reference
 
 env: $(STAMP) $(FAST_IMPORT)
 
@@ -97,6 +99,12 @@ test: $(STAMP) $(FAST_IMPORT)
 
 test-emulated: $(STAMP) $(FAST_IMPORT)
 	SPLINESTEP_RERUN=$(RERUN) $(EMULATED_CPU) $(PYTEST)
+
+# The package's tests, installed as a user installs it, at both ends of the
+# bounds pyproject.toml declares: the oldest direct dependencies on Python
+# 3.11, the newest on Python 3.13 (scripts/test_bounds.py; venvs in build/).
+test-bounds: $(STAMP)
+	$(BIN)/python scripts/test_bounds.py
 
 bench: $(STAMP) $(FAST_IMPORT)
 	$(BIN)/python benchmarks/speed.py

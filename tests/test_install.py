@@ -104,3 +104,30 @@ def test_a_tolerance_given_with_a_fixed_grid_is_said_to_be_ignored(grid):
     np.testing.assert_array_equal(bounded.y, plain.y)   # ignored indeed
     with pytest.raises(ValueError, match="unknown options \\['rtl'\\]"):
         splinestep.solve(lambda t, y, yp: -y, (0.0, 1.0), 1.0, 0.0, rtl=1e-8, **grid)
+
+
+def test_a_long_compilation_is_said_once_and_a_short_one_or_a_quiet_run_not(capsys, monkeypatch):
+    """One line on stderr when numba's compiling (or loading) takes longer
+    than COMPILE_NOTICE_AFTER: once per process, never for a fast load,
+    never with SPLINESTEP_QUIET=1."""
+    import time
+
+    from splinestep import _adapters
+    monkeypatch.setattr(_adapters, "COMPILE_NOTICE_AFTER", 0.05)
+    monkeypatch.setattr(_adapters, "_NOTICED", [])
+    monkeypatch.delenv("SPLINESTEP_QUIET", raising=False)
+    with _adapters.compiling_notice():
+        pass                                       # a load from the cache: silent
+    time.sleep(0.2)
+    assert capsys.readouterr().err == ""
+    monkeypatch.setenv("SPLINESTEP_QUIET", "1")
+    with _adapters.compiling_notice():
+        time.sleep(0.2)                            # long, but asked to be quiet
+    assert capsys.readouterr().err == ""
+    monkeypatch.delenv("SPLINESTEP_QUIET")
+    for _ in range(2):
+        with _adapters.compiling_notice():
+            time.sleep(0.2)                        # long: said, the first time only
+    said = capsys.readouterr().err.splitlines()
+    assert len(said) == 1 and said[0].startswith("splinestep: numba is compiling"), said
+    assert "SPLINESTEP_QUIET=1" in said[0]

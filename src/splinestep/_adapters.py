@@ -46,6 +46,7 @@ References
 """
 
 import base64
+import contextlib
 import hashlib
 import importlib.util
 import numbers
@@ -406,6 +407,38 @@ def source(kind, function, kinds, stamp):
                              params="".join(", " + p for p in params))
 
 
+# A compilation (or a load from the cache) that takes longer than this, in
+# seconds, is said on stderr, once per process: a load takes less.
+COMPILE_NOTICE_AFTER = 2.0
+_NOTICED = []
+
+
+@contextlib.contextmanager
+def compiling_notice():
+    """Within it, numba compiles or loads from its cache; if that takes
+    longer than :data:`COMPILE_NOTICE_AFTER` seconds, one line on stderr
+    says what is happening (once per process; ``SPLINESTEP_QUIET=1``
+    silences it)."""
+    if _NOTICED or os.environ.get("SPLINESTEP_QUIET", "") not in ("", "0"):
+        yield
+        return
+    timer = threading.Timer(COMPILE_NOTICE_AFTER, _notice)
+    timer.daemon = True
+    timer.start()
+    try:
+        yield
+    finally:
+        timer.cancel()
+
+
+def _notice():
+    if not _NOTICED:
+        _NOTICED.append(True)
+        print("splinestep: numba is compiling the step loops for this machine, once per user "
+              f"and version (about 20 s of CPU time), into {cache_folder().parent}; later runs "
+              "load them (SPLINESTEP_QUIET=1 silences this line)", file=sys.stderr, flush=True)
+
+
 _ADAPTERS = {}
 _LOCK = threading.Lock()
 FIXED = (types.float64, types.float64[::1], types.float64[::1], types.int64)
@@ -433,7 +466,8 @@ def _module(name, text, function):
         module = type(sys)(name + "_here")
         exec(compile(text.replace("cache=True", "cache=False"), name, "exec"),
              module.__dict__)
-    module.adapted.compile(FIXED)
+    with compiling_notice():
+        module.adapted.compile(FIXED)
     return module.adapted
 
 

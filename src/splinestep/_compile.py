@@ -333,7 +333,8 @@ def compiled(py_loop, arg_types):
     key = (py_loop, tuple(arg_types))
     with _LOOPS_LOCK:   # two threads asking at once compile once
         if key not in _LOOPS:
-            _LOOPS[key] = njit(tuple(arg_types), cache=True, nogil=True)(py_loop)
+            with _adapters.compiling_notice():
+                _LOOPS[key] = njit(tuple(arg_types), cache=True, nogil=True)(py_loop)
         return _LOOPS[key]
 
 
@@ -661,7 +662,8 @@ def interruptible(call, buffer):
     Jupyter kernel, which survives.  In another thread (where no
     KeyboardInterrupt is delivered) ``call()`` runs where it is.  The
     worker runs in a copy of the caller's context (numpy's ``errstate`` is
-    one), and what ``call()`` raises is raised here.
+    one; numpy before 2 keeps it per thread, and the worker takes the
+    caller's), and what ``call()`` raises is raised here.
 
     The interrupt may arrive at any bytecode of the main thread, and the
     signal itself at any thread of the process (the kernel may hand it to
@@ -682,11 +684,13 @@ def interruptible(call, buffer):
     box = {}
     finished = _thread.allocate_lock()
     finished.acquire()
-    context = contextvars.copy_context()   # numpy's errstate, among others
+    context = contextvars.copy_context()   # numpy's errstate (numpy >= 2), among others
+    errors = np.geterr()   # numpy < 2 keeps errstate per thread, not in the context
 
     def target(call=call, buffer=buffer):   # the worker's own references
         try:
-            box["out"] = context.run(call)
+            with np.errstate(**errors):
+                box["out"] = context.run(call)
         except BaseException as error:   # re-raised in the caller's thread
             box["error"] = error
         finally:
