@@ -591,3 +591,28 @@ def test_every_page_in_a_browser(readings, window):
     failed = [url for url, why in failed if "ERR_ABORTED" not in str(why)
               or not Path(unquote(urlparse(url).path)).exists()]
     assert not failed, f"requests that failed: {failed[:5]}"
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="no chromium: `make browser` installs Debian's")
+def test_on_a_phone_the_visible_sidebar_buttons_open_their_drawers(site):
+    """The menu and the page's contents: a tap on the button a phone shows
+    opens the drawer (the theme binds only the first button of each kind,
+    which its header hides; readable.js passes the others' clicks on)."""
+    from playwright.sync_api import sync_playwright
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+        try:
+            page = browser.new_page(**VIEWPORTS[min(VIEWPORTS, key=lambda w: VIEWPORTS[w]
+                                                    ["viewport"]["width"])])
+            page.goto((site / "website" / "guide.html").as_uri(), wait_until="load")
+            for kind in ("primary", "secondary"):
+                shown = [b for b in page.query_selector_all(f".{kind}-toggle") if b.is_visible()]
+                assert shown, kind
+                shown[0].click()
+                page.wait_for_timeout(300)
+                assert page.evaluate(f"() => document.querySelector('#pst-{kind}-sidebar-modal')"
+                                     "?.open === true"), kind
+                page.keyboard.press("Escape")
+                page.wait_for_timeout(200)
+        finally:
+            browser.close()

@@ -19,7 +19,8 @@
    4. Each image of the text is a link to its file: a click opens the
       figure at full size.
    5. A long name in the sidebars (the API page's contents) may break
-      after an underscore or a dot. */
+      after an underscore or a dot.
+   6. Every sidebar button opens its sidebar (see toggles). */
 (function () {
   "use strict";
 
@@ -299,9 +300,32 @@
     }, true);
   }
 
-  if (document.readyState === "loading") {
-    document.addEventListener("DOMContentLoaded", start);
-  } else {
+  // 6. The theme binds its sidebar buttons (the menu and the page's
+  //    contents) by the first element of each class, which the book
+  //    theme's header hides; the visible ones then do nothing.  Each other
+  //    button of the class passes its click to the first.
+  function toggles() {
+    [".primary-toggle", ".secondary-toggle"].forEach(function (kind) {
+      const buttons = document.querySelectorAll(kind);
+      buttons.forEach(function (button, index) {
+        if (index === 0) return;
+        button.addEventListener("click", function (event) {
+          event.preventDefault();
+          event.stopPropagation();
+          buttons[0].click();
+        });
+      });
+    });
+  }
+
+  function begin() {
     start();
+    toggles();
+  }
+
+  if (document.readyState === "loading") {
+    document.addEventListener("DOMContentLoaded", begin);
+  } else {
+    begin();
   }
 })();
