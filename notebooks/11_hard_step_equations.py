@@ -1,5 +1,5 @@
 # %% [markdown]
-# # When the step equation is hard: the Pleiades, a retried step, Newton's method with a kept matrix
+# # Hard steps: the Pleiades, a retried step, Newton's method with a kept matrix, and the step-size check
 #
 # Each spline step solves an implicit equation for its new knot: by the
 # fixed-point sweep (the report's "a few times") or by Newton's method.
@@ -7,7 +7,9 @@
 # the Pleiades, where it can lose its solution.  It asks what the
 # error-controlled driver does then (it retries with a smaller step), and
 # what Newton's method with a kept matrix (`reuse_jacobian=True`) costs
-# against full Newton and the sweep.
+# against full Newton and the sweep.  Last, it asks whether the check that
+# flags a step too large for its solution (`splinestep.check`) speaks only
+# when it should, on eleven problems.
 #
 # It continues notebook 08 (adaptive knots); the step itself is built in
 # notebook 01 and `splinestep.step`.
@@ -23,6 +25,7 @@ sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/
 import outputs
 import splinestep
 from splinestep import problems, step
+from splinestep.analysis import alarms
 
 plt = outputs.setup()
 
@@ -56,6 +59,7 @@ def pleiades_row(run, iteration, res, flagged):
                 t_end=res.t[-1], error=error, flagged=flagged)
 
 
+# %%
 pleiades_rows = []
 for h in (1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 2.5e-3, 2.9e-3, 3.5e-3, 5e-3, 1e-2):
     for iteration, kwargs in ITERATIONS.items():
@@ -251,8 +255,6 @@ print(f"full Newton / kept matrix: {full_over_kept.min():.0f} to {full_over_kept
 # than 10 %.
 
 # %%
-from splinestep.analysis import alarms
-
 alarm_table = pd.DataFrame(alarms.runs())
 outputs.save_data(alarm_table, "check-alarms")
 false_alarms, accurate, misses, inaccurate = alarms.tally(alarm_table.to_dict("records"))
