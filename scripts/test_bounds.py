@@ -9,8 +9,9 @@ the package's tests alone, since the notebooks' tooling is not installed
 
 * ``oldest``: Python 3.11 and the oldest versions of the direct
   dependencies the bounds allow (uv's ``--resolution lowest-direct``);
-* ``newest``: the newest Python this machine has (3.13) and the newest
-  versions, with numpy's, scipy's and numba's deprecations as errors.
+* ``newest``: the newest Python this machine has (3.13 here; 3.14 first
+  where there is one) and the newest versions, with numpy's, scipy's and
+  numba's deprecations as errors.
 
     python scripts/test_bounds.py [oldest|newest ...]
 """
@@ -26,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 UV = Path(sys.executable).parent / "uv"
 RUNS = {
     "oldest": dict(python="3.11", resolution="lowest-direct", warnings=[]),
-    "newest": dict(python="3.13", resolution="highest",
+    "newest": dict(python=("3.14", "3.13", "3.12", "3.11"), resolution="highest",
                    warnings=["-W", "error::DeprecationWarning:numpy",
                              "-W", "error::DeprecationWarning:scipy",
                              "-W", "error::DeprecationWarning:numba"]),
@@ -37,13 +38,17 @@ VERSIONS = ("import sys, numpy, scipy, numba, pandas, sympy, pytest; "
             "pandas.__version__, '| sympy', sympy.__version__, '| pytest', pytest.__version__)")
 
 
-def interpreter(version):
-    """A python of ``version`` ("3.13"): on PATH, or installed by pyenv."""
-    found = shutil.which(f"python{version}") or next(iter(sorted(glob.glob(
-        os.path.expanduser(f"~/.pyenv/versions/{version}*/bin/python{version}")))), None)
-    if found is None:
-        sys.exit(f"test-bounds: no Python {version} on PATH or under ~/.pyenv/versions")
-    return found
+def interpreter(versions):
+    """A python of the first of ``versions`` ("3.11", or several, newest
+    first) that this machine has and that runs: installed by pyenv, or on
+    PATH (a pyenv shim of a version not selected does not run)."""
+    for version in (versions,) if isinstance(versions, str) else versions:
+        candidates = sorted(glob.glob(os.path.expanduser(
+            f"~/.pyenv/versions/{version}*/bin/python{version}")))
+        for found in filter(None, candidates + [shutil.which(f"python{version}")]):
+            if subprocess.run([found, "--version"], capture_output=True).returncode == 0:
+                return found
+    sys.exit(f"test-bounds: no Python {versions} under ~/.pyenv/versions or on PATH")
 
 
 def run(name):
