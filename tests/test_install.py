@@ -131,3 +131,49 @@ def test_a_long_compilation_is_said_once_and_a_short_one_or_a_quiet_run_not(caps
     said = capsys.readouterr().err.splitlines()
     assert len(said) == 1 and said[0].startswith("splinestep: numba is compiling"), said
     assert "SPLINESTEP_QUIET=1" in said[0]
+
+
+def test_import_splinestep_leaves_the_test_problems_until_they_are_used():
+    """``import splinestep`` loads the solver, not the report's test
+    problems (their compiled right-hand sides cost most of a second to
+    load); ``splinestep.problems`` and ``from splinestep import problems``
+    still work."""
+    script = textwrap.dedent("""
+        import sys, splinestep
+        print("splinestep.problems" in sys.modules)
+        print(splinestep.problems.cannonball(0.6).h)
+        from splinestep import problems
+        print(problems is splinestep.problems, "splinestep.problems" in sys.modules)
+        """)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["False", "0.01", "True", "True"]
+
+
+def test_the_import_graph_finds_imports_at_every_depth_of_statements(tmp_path):
+    """The stamp of a compiled function covers the modules its module
+    imports anywhere: in functions, conditionals, handlers and with-blocks
+    (the walk visits statements only, not expressions)."""
+    import ast
+
+    from splinestep import _compile
+    source = textwrap.dedent("""
+        import os
+        def f():
+            from . import a
+            if True:
+                try:
+                    import splinestep.b
+                except ImportError:
+                    from .c import d
+                finally:
+                    pass
+            with open(os.devnull):
+                from .e import g
+        class K:
+            def m(self):
+                from . import h
+        """)
+    names = [getattr(n, "module", None) or n.names[0].name for n in
+             _compile._import_statements(ast.parse(source))]
+    assert sorted(names) == sorted(["os", "a", "splinestep.b", "c", "e", "h"])

@@ -15,7 +15,6 @@ The public API:
 """
 
 from . import _compile  # noqa: F401  (first: it sets how numba caches the package)
-from . import problems
 from .linear import linear
 from .result import HermiteSolution, OdeResult, SplineSolution
 from .rk4 import rk4
@@ -27,3 +26,15 @@ from .verlet import verlet
 __all__ = ["solve", "solve_bvp", "solve_reversible", "rk4", "verlet", "linear", "problems",
            "OdeResult", "SplineSolution", "HermiteSolution"]
 __version__ = "0.1.0"
+
+
+def __getattr__(name):
+    """``splinestep.problems`` imported when first used, not with the
+    package: its compiled right-hand sides cost about 0.9 s to load, which
+    a user of :func:`solve` alone need not pay."""
+    if name == "problems":
+        import importlib
+        module = importlib.import_module(".problems", __name__)
+        globals()["problems"] = module
+        return module
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

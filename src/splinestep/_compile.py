@@ -87,13 +87,38 @@ def _module_files(base, parts):
     return [p for p in (target.with_suffix(".py"), target / "__init__.py") if p.is_file()]
 
 
+def _import_statements(tree):
+    """The import statements of a module, at any depth of its statements
+    (in functions, classes, conditionals and handlers too); expressions,
+    which hold no import statement, are not visited."""
+    todo = [tree]
+    while todo:
+        node = todo.pop()
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            yield node
+        for field in ("body", "orelse", "finalbody", "handlers", "cases"):
+            todo.extend(getattr(node, field, None) or ())
+
+
+_IMPORTS = {}
+
+
 def package_imports(path):
     """The files of this package that the module at ``path`` imports
     directly (``from .x import f``, ``from . import x``, ``from .. import
-    problems``, ``import splinestep.x``)."""
+    problems``, ``import splinestep.x``).  Read once per process and
+    version of the file (its size and modification time)."""
     path = Path(path)
+    status = path.stat()
+    key = (path, status.st_size, status.st_mtime_ns, PACKAGE)
+    if key not in _IMPORTS:
+        _IMPORTS[key] = _package_imports(path)
+    return _IMPORTS[key]
+
+
+def _package_imports(path):
     found = set()
-    for node in ast.walk(ast.parse(path.read_bytes())):
+    for node in _import_statements(ast.parse(path.read_bytes())):
         if isinstance(node, ast.Import):
             for alias in node.names:
                 parts = alias.name.split(".")
