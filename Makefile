@@ -34,6 +34,9 @@ STAMP := $(VENV)/.installed
 FAST_IMPORT := $(VENV)/.fast-import
 
 export MPLBACKEND := Agg
+# The line a first compilation prints on stderr is for a user's own runs:
+# here it would become part of a notebook's outputs.
+export SPLINESTEP_QUIET := 1
 export PYTHONHASHSEED := 0
 export SOURCE_DATE_EPOCH := 0
 # Python writes its bytecode caches (__pycache__, ignored by git) even where
