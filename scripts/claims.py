@@ -942,13 +942,19 @@ def table_html(frame, raw=()):
     breaks (inline styles: JupyterLab drops the style sheets of untrusted
     outputs), its notation readable (:func:`readable`: JupyterLab's MathJax
     typesets the formulas); the columns in ``raw`` are HTML already."""
-    style = 'style="text-align: left; vertical-align: top"'
-    head = "".join(f"<th {style}>{escape(c)}</th>" for c in frame.columns)
+    style = "text-align: left; vertical-align: top"
+    # the short columns keep a readable width; the long ones share the rest
+    widths = {"where": "7em", "claim": "14em", "verdict": "14em", "measured in": "9em",
+              "erratum": "16em"}
+    head = "".join(f'<th style="{style}; min-width: {widths.get(c, "0")}">{escape(c)}</th>'
+                   for c in frame.columns)
 
     def cell(column, value):
         return str(value) if column in raw else escape(readable(str(value)))
 
-    rows = "".join("<tr>" + "".join(f"<td {style}>{cell(c, v)}</td>"
-                                    for c, v in zip(frame.columns, values)) + "</tr>"
-                   for values in frame.itertuples(index=False))
+    # a line between rows, so that a long row reads as one
+    rows = "".join("<tr>" + "".join(
+        f'<td style="{style}; border-top: 1px solid #ccc">{cell(c, v)}</td>'
+        for c, v in zip(frame.columns, values)) + "</tr>"
+        for values in frame.itertuples(index=False))
     return f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>"
