@@ -18,7 +18,8 @@
 #                    test's seconds to build/junit.xml
 #   make bench       speed benchmark (compiled, plain Python, scipy, C) and cost against
 #                    the number of equations (benchmarks/scaling.py), the error
-#                    controller on a stiff system (benchmarks/controller.py)
+#                    controller on a stiff system (benchmarks/controller.py), solve's
+#                    defaults against scipy's (benchmarks/defaults.py)
 #   make lab         JupyterLab at the repository root, .py <-> .ipynb pairs active
 #   make test-emulated   the tests with numpy's newer CPU kernels switched off, as on another CPU
 #   make test-bounds     the package's tests alone, installed from this checkout into fresh
@@ -113,6 +114,7 @@ bench: $(STAMP) $(FAST_IMPORT)
 	$(BIN)/python benchmarks/speed.py
 	$(BIN)/python benchmarks/scaling.py
 	$(BIN)/python benchmarks/controller.py
+	$(BIN)/python benchmarks/defaults.py
 
 # The reference trajectories from OpenSees (not a dependency of the package:
 # its own venv, its wheel pinned so that the data regenerate byte for byte;
