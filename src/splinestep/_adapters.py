@@ -434,9 +434,10 @@ def compiling_notice():
 def _notice():
     if not _NOTICED:
         _NOTICED.append(True)
-        print("splinestep: numba is compiling the step loops for this machine, once per user "
-              f"and version (about 20 s of CPU time), into {cache_folder().parent}; later runs "
-              "load them (SPLINESTEP_QUIET=1 silences this line)", file=sys.stderr, flush=True)
+        print("splinestep: numba is compiling the step loops this run needs, once per user "
+              f"and installation (20 s of CPU time or more), into {cache_folder().parent}; "
+              "later runs load them (SPLINESTEP_QUIET=1 silences this line)",
+              file=sys.stderr, flush=True)
 
 
 _ADAPTERS = {}

@@ -125,8 +125,10 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         report the solution, evaluated from each step's interpolant as the
         run goes; the knots are then not stored (unless ``dense_output``).
     args : tuple, optional
-        Extra arguments passed to ``fun``, ``jac`` and the events.  Numbers
-        are passed as floats and numeric arrays as float arrays.
+        Extra arguments passed to ``fun``, ``jac`` and the events, as
+        given: a plain ``fun`` receives the Python objects, a compiled one
+        their numba types (an int as int64, an array with its dtype; see the
+        manual's page "The compiled fast path").
     events : callable or list of callables, optional
         Functions ``g(t, y, yp, *args)`` whose zeros are located on each
         step's interpolant as the step is taken, with the optional

@@ -28,5 +28,6 @@ def require(name, user):
         extra = EXTRAS[name]
         raise ImportError(
             f"{user} needs {name}, which `pip install splinestep` does not install; "
-            f"install it with `pip install 'splinestep[{extra}]'` (or `pip install {name}`)"
+            f"install it with `pip install 'splinestep[{extra}]'` (from a clone: "
+            f"`pip install '.[{extra}]'`; or `pip install {name}`)"
         ) from error
