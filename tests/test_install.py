@@ -80,10 +80,11 @@ def test_solve_shows_its_options_in_its_signature():
     import splinestep
     from splinestep import spline
     parameters = inspect.signature(splinestep.solve).parameters
-    for name in spline._OPTIONS:
+    for name, default in spline._OPTIONS.items():
         assert parameters[name].kind is inspect.Parameter.KEYWORD_ONLY, name
-    assert parameters["tol"].default == spline._OPTIONS["tol"]
-    assert parameters["method"].default == "spline"
+        # the adaptive options default to None ("not given"), resolved to _OPTIONS' values
+        expected = None if name in spline.ADAPTIVE_ONLY else default
+        assert parameters[name].default is expected or parameters[name].default == expected, name
 
 
 @pytest.mark.parametrize("grid", [dict(h=0.1), dict(knots=[0.0, 0.3, 1.0])])

@@ -368,11 +368,18 @@ def cache_folder():
     return base / "adapters"
 
 
+_LOOPS_FOLDERS = {}
+
+
 def loops_folder():
     """Where numba caches the package's compiled step loops: ``loops``
     beside :func:`cache_folder` (or a temporary folder of this process when
-    that cannot be written)."""
-    return _writable_folder(cache_folder().parent / "loops")
+    that cannot be written).  Probed once per process and folder, not at
+    each of the package's compiled functions."""
+    wanted = cache_folder().parent / "loops"
+    if wanted not in _LOOPS_FOLDERS:
+        _LOOPS_FOLDERS[wanted] = _writable_folder(wanted)
+    return _LOOPS_FOLDERS[wanted]
 
 
 _TEMPORARY = []

@@ -369,10 +369,8 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
     """
     t0, tf = _base.check_span(t_span, backward=True)
     y0, yp0 = _base.check_state(y0, yp0)
-    given = dict(method=method, mass=mass, iteration=iteration, iterations=iterations, tol=tol,
-                 max_iter=max_iter, jac=jac, rtol=rtol, atol=atol, first_step=first_step,
-                 max_step=max_step, max_steps=max_steps, reuse_jacobian=reuse_jacobian,
-                 check=check, y_max=y_max)
+    arguments = locals()   # the options as given, read by their names in _OPTIONS
+    given = {name: arguments[name] for name in _OPTIONS}
     opts = _options(given, others, adaptive=h is None and knots is None)
     if np.max(np.abs(y0)) > opts["y_max"]:
         raise ValueError(f"y_max = {opts['y_max']:g} is below the largest |y0|, "
