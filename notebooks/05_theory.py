@@ -3,13 +3,28 @@
 #
 # The report asks for "a formal proof of its convergence".  This notebook
 # derives the method's properties with a computer algebra system
-# (`splinestep.analysis.theory`, sympy) and checks every derived constant
-# against a measurement made with the package: the local errors, the
-# two-step recurrence and its convergence theorem, stability and period on
-# the oscillator, and that the spline stepper is Stormer-Verlet seen
-# through a change of variables.  Notebook 06 takes up the report's
-# "higher-order polynomial splines", notebook 07 what the theory predicts
-# for long runs.
+# (`splinestep.analysis.theory`, sympy) and measures every derived constant
+# with the package.  What it proves, and measures:
+#
+# * **Local errors** (section 1): one step from exact values misses by
+#   $h^4 y''''/24$ in $y$ and $h^3 y''''/12$ in $y'$.
+# * **Convergence of order 2** (section 2): the knots obey a linear two-step
+#   method, $\rho(\zeta) = (\zeta - 1)^2$,
+#   $\sigma(\zeta) = (\zeta^2 + 4\zeta + 1)/6$, of order 2 with error
+#   constant $-1/12$; by Henrici's theorem it converges with order 2.
+# * **The oscillator** (section 3): no damping and no growth below
+#   $\omega h = \sqrt{12}$, linear growth at it; a period error of
+#   $+(\omega h)^2/24$, Verlet's with the opposite sign; the fixed-point
+#   sweep converges below $\omega h = \sqrt 6$.
+# * **Stormer-Verlet in other variables** (section 4): in
+#   $Q = q - h^2 f(q)/6$ the spline stepper *is* Verlet on a modified force,
+#   so it is conjugate to a symplectic method: with each step equation
+#   solved to convergence its energy error stays bounded, and a modified
+#   angular momentum is conserved to rounding.
+#
+# The last section puts each derived constant beside its measurement.
+# Notebook 06 takes up the report's "higher-order polynomial splines",
+# notebook 07 what the theory predicts for long runs.
 
 # %%
 import sys
@@ -112,32 +127,21 @@ print(f"  one sweep per step: ~1e{np.log10(one_sweep_residual):.0f}")
 
 # %% [markdown]
 # **Convergence.** Henrici's theorem (Discrete Variable Methods, 1962,
-# Ch. 6; Hairer, Norsett & Wanner I, Sec. III.10) states: a linear
-# multistep method for $y'' = f(t, y)$, with $f$ Lipschitz in $y$, converges
-# with order $p$ if (i) it is consistent of order $p$, (ii) it is
-# zero-stable for second-order equations, i.e. the roots of $\rho$ lie in
-# the closed unit disc and those on the unit circle have multiplicity at
-# most two, and (iii) the starting errors are $O(h^{p+1})$:
-# $y_j - y(t_j) = O(h^{p+1})$ for $j = 0, 1$.
+# Ch. 6; Hairer, Norsett & Wanner I, Sec. III.10): a linear multistep
+# method for $y'' = f(t, y)$, $f$ Lipschitz in $y$, converges with order $p$
+# if (i) it is consistent of order $p$, (ii) the roots of $\rho$ lie in the
+# closed unit disc, those on the unit circle at most double, and (iii) the
+# starting errors are $O(h^{p+1})$.  Each holds: (i) by the $C_k$ above;
+# (ii) as $\rho = (\zeta - 1)^2$; (iii) as $y_0$ is exact and $y_1$ is one
+# spline step, with local error $O(h^4)$.  So the spline stepper converges
+# with order 2 in $y$, and in $y'$, the trapezoidal sums of the $f_n$.
 #
-# The exponent $p + 1$ is needed because of the double root 1 of $\rho$:
-# the error recursion carries the difference $e_1 - e_0$ of the starting
-# errors forward like a velocity, $e_n \approx e_0 + n(e_1 - e_0)$, and
-# $n \sim 1/h$, so starting errors of size $h^p$ that differ from each other
-# cost one order.
-#
-# Each hypothesis holds: (i) by the $C_k$ above; (ii) because
-# $\rho = (\zeta - 1)^2$ has the double root 1 only; (iii) because $y_0$ is
-# exact and $y_1$ is one spline step, whose local error is $O(h^4)$
-# (section 1).  So the spline stepper converges with order 2 in $y$; $y'_n$
-# follows from the trapezoidal sums of the $f_n$ and converges with the
-# same order.
-#
-# Hypothesis (iii) can be tried one change at a time:
-# `theory.two_step_order` runs the two-step method on $y'' = -y$ from
-# any starting values and fits the order of its error.  Started as the
-# package starts, it should give order 2; with $y_0$ off by $h^2$ (and $y_1$
-# exact) the order should drop to 1, with $y_0$ off by $h^3$ it should stay 2.
+# Why (iii) asks for $p + 1$: with the double root 1 the error recursion
+# carries $e_1 - e_0$ forward like a velocity, $e_n \approx e_0 + n(e_1 - e_0)$
+# with $n \sim 1/h$.  `theory.two_step_order` runs the two-step method on
+# $y'' = -y$ from chosen starting values and fits the order: started as
+# the package starts it should give 2, with $y_0$ off by $h^2$ 1, with
+# $y_0$ off by $h^3$ 2.
 
 # %%
 HENRICI_STEPS = [0.1, 0.05, 0.025, 0.0125]
@@ -360,16 +364,12 @@ outputs.save_figure(fig, "theory-oscillator")
 # the identity and expands $\tilde V$ for a sample potential:
 
 # %%
-q0, q1, q2, f0, f1, f2, hh = sp.symbols("q0 q1 q2 f0 f1 f2 h")
-spline_relation = hh ** 2 * (f0 + 4 * f1 + f2) / 6 - (q0 - 2 * q1 + q2)
-Qs = [qi - hh ** 2 * fi / 6 for qi, fi in ((q0, f0), (q1, f1), (q2, f2))]
-verlet_relation = hh ** 2 * f1 - (Qs[0] - 2 * Qs[1] + Qs[2])
 Qsym = sp.Symbol("Q")
 V_sample = Qsym ** 2 / 2 + Qsym ** 4 / 4
 correction = sp.expand((theory.modified_potential(V_sample, Qsym) - V_sample).coeff(theory.h, 2))
 display(Math(theory.aligned([
     (r"\text{Verlet relation in } Q - \text{spline relation in } q",
-     sp.simplify(verlet_relation - spline_relation)),
+     theory.verlet_in_other_variables()),
     (r"\tilde V - V \text{ for } V = \tfrac{Q^2}{2} + \tfrac{Q^4}{4}",
      theory.latex(theory.h ** 2 * sp.factor(correction)) + " + O(h^4)"),
     (r"-\tfrac{1}{12} |V'|^2", sp.factor(-sp.diff(V_sample, Qsym) ** 2 / 12))])))

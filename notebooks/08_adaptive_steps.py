@@ -27,13 +27,6 @@
 # Notebook 10 builds the higher orders, notebook 09 the single sweep and
 # the boundary value problems it makes possible.  How the comparisons were
 # matched and checked is at the end.
-#
-# One step serves all of them.  `splinestep.step` holds the spline step (its
-# equation, the fixed-point sweep, Newton's method with a kept LU).  The one
-# driver (`splinestep.driver`) asks a step-size controller
-# (`splinestep.controllers`: given knots, error control, time-reversible
-# steps) for the next knot, and `bvp` writes the same step as residuals and
-# solves all knots at once.
 
 # %%
 import sys
@@ -179,14 +172,34 @@ spline_rows.groupby("problem", sort=False).apply(lambda g: pd.Series({
 # step on the pendulum (1.66 times), where one sweep adds an error of its
 # own that the estimate does not see.
 
+# %% jupyter={"source_hidden": true}
+markers = dict(zip(study, "osD^v"))
+colors = {"spline": "C0", "spline, 1 sweep": "C1", "RK45": "C4", "DOP853": "C5"}
+fig, axes = plt.subplots(1, 3, sharey=True, figsize=(outputs.WIDTH, 2.9))
+for ax, method in zip(axes, ("spline", "RK45", "DOP853")):
+    for name, g in tolerance_table[tolerance_table.method == method].groupby("problem", sort=False):
+        ax.loglog(g.rtol, g.error_ratio, color=colors[method], marker=markers[name], markersize=4)
+    ax.axhline(1.0, color="k", linewidth=0.8)
+    ax.set(title="spline, adaptive" if method == "spline" else f"scipy {method}", xlabel="rtol",
+           ylabel="final error /\n(rtol $\\times$ scale of $y$)" if method == "spline" else "")
+fig.legend(handles=[Line2D([], [], color="k", marker=m, linestyle="none", label=name)
+                    for name, m in markers.items()], loc="outside lower center", ncol=3,
+           fontsize=outputs.MIN_FONT, frameon=False)
+outputs.save_figure(fig, "tolerance-proportionality")
+
+# %% [markdown]
+# The spline's adaptive knots stay below 1 on all five problems, level as
+# rtol falls; RK45 and DOP853, which bound each step's error, exceed it,
+# RK45 on four of the five problems and DOP853 on three.
+
 # %% [markdown]
 # ### What the knots cost
 # Against uniform steps at the same final error: for each adaptive run, a
 # uniform run with the step count that reaches the same error (the matched
-# run; how it is found is at the end), each step iterated to convergence
-# (solve's default), with 2 sweeps, or with 1 sweep.  The cost is the
-# adaptive run's evaluations over the matched run's: above 1, the uniform
-# step is cheaper.
+# run; how it is found is at the end).  The cost is the adaptive run's
+# evaluations over the matched run's: below 1 the knots save, above 1 the
+# uniform step is cheaper.  Each side solves its step equations to
+# convergence (solve's default) or with one sweep per step:
 
 # %%
 uniform_table = pd.concat(
@@ -195,39 +208,28 @@ uniform_table = pd.concat(
 outputs.save_data(uniform_table, "tolerance-uniform")
 cost = tolerance.cost_ratios(study, tolerance_table, uniform_table)
 outputs.save_data(cost, "tolerance-cost")
-tolerance.ratio_ranges(cost)
+cost_table = tolerance.ratio_ranges(cost)
+cost_table[["spline / uniform, iterated", "spline / uniform, 1 sweep",
+            "spline, 1 sweep / uniform, 1 sweep"]].rename(columns={
+    "spline / uniform, iterated": "both iterated",
+    "spline / uniform, 1 sweep": "adaptive iterated, uniform 1 sweep",
+    "spline, 1 sweep / uniform, 1 sweep": "both 1 sweep"})
 
 # %% [markdown]
-# Both iterated (the first column), the knots cost 0.57 to 1.06 times the
-# uniform evaluations on the oscillator, 0.78 to 1.07 on the forced Duffing
-# oscillator, 1.21 to 5.06 on the pendulum and 1.07 to 1.14 on the
-# rational problem; on the Kepler orbit 0.027 to 0.036, a saving of 28 to
-# 37 times.  The verdict depends on how the uniform run solves each step:
-# against 2 sweeps the oscillator's knots cost 0.85 to 1.09, against 1
-# sweep 1.65 to 2.16; against one sweep the uniform step is cheaper on all
-# four problems other than the Kepler orbit (1.20 to 4.13).  With one
-# sweep on both sides (last column) the knots cost 1.07 to 2.11 times the
-# uniform evaluations on those four, and 0.020 to 0.021 on the orbit.
+# Both iterated (the first column), the knots save 28 to 37 times on the
+# Kepler orbit (cost 0.027 to 0.036).  On the four milder problems they
+# cost 0.57 to 5.06 times the uniform evaluations: 0.57 to 1.06 on the
+# oscillator, 0.78 to 1.07 on the forced Duffing oscillator, 1.21 to 5.06
+# on the pendulum, 1.07 to 1.14 on the rational problem.  Against a
+# uniform step with one sweep per step (second column) the uniform step is
+# cheaper on all four (1.20 to 4.13).  With one sweep on both sides (last
+# column) the knots cost 1.07 to 2.11 times the uniform evaluations on
+# those four, and 0.020 to 0.021 on the orbit.
 
 # %% jupyter={"source_hidden": true}
-fig = plt.figure(figsize=(outputs.WIDTH, 5.8))  # the whole figure in a JupyterLab pane
-top, bottom = fig.subfigures(2, 1, height_ratios=[1.25, 2.0])
-markers = dict(zip(study, "osD^v"))
-colors = {"spline": "C0", "spline, 1 sweep": "C1", "RK45": "C4", "DOP853": "C5"}
-greys = {"uniform, iterated": ("0.15", "-"), "uniform, 2 sweeps": ("0.45", "-."),
-         "uniform, 1 sweep": ("0.6", "--")}
-for ax, method in zip(top.subplots(1, 3, sharey=True), ("spline", "RK45", "DOP853")):
-    for name, g in tolerance_table[tolerance_table.method == method].groupby("problem", sort=False):
-        ax.loglog(g.rtol, g.error_ratio, color=colors[method], marker=markers[name], markersize=4)
-    ax.axhline(1.0, color="k", linewidth=0.8)
-    ax.set(title="spline, adaptive" if method == "spline" else f"scipy {method}", xlabel="rtol",
-           ylabel="final error /\n(rtol $\\times$ scale of $y$)" if method == "spline" else "")
-top.legend(handles=[Line2D([], [], color="k", marker=m, linestyle="none", label=name)
-                    for name, m in markers.items()], loc="outside lower center", ncol=3,
-           fontsize=outputs.MIN_FONT, frameon=False)
-top.suptitle("Error against the tolerance", fontsize=11)
-axes, ranges = bottom.subplots(2, 3).ravel(), tolerance.ratio_ranges(cost)
-for k, (ax, name) in enumerate(zip(axes, study)):   # one panel per problem: error against work
+greys = {"uniform, iterated": ("0.15", "-"), "uniform, 1 sweep": ("0.6", "--")}
+fig, axes = plt.subplots(2, 3, figsize=(outputs.WIDTH, 4.2))
+for k, (ax, name) in enumerate(zip(axes.ravel(), study)):   # one panel per problem
     for method, (grey, dash) in greys.items():   # the uniform runs the comparison uses
         g = tolerance.converging_part(
             uniform_table[(uniform_table.problem == name) & (uniform_table.method == method)])
@@ -238,29 +240,25 @@ for k, (ax, name) in enumerate(zip(axes, study)):   # one panel per problem: err
                   linestyle="-" if method.startswith("spline") else ":",
                   label=method.replace("spline", "spline, adaptive") if "spline" in method
                   else f"scipy {method}")
-    ax.set(title=name, xlabel="evaluations of $F$" if k >= 2 else "")
+    ax.set(title=name, xlabel="evaluations of $F$" if k >= 2 else "",
+           ylabel="final error / scale of $y$" if k % 3 == 0 else "")
     low, high = ax.get_ylim()
     ax.set_ylim(low, high * (high / low) ** 0.35)   # room for the ratios of the table
     ax.text(0.97, 0.97, "adaptive / uniform:\n" + "\n".join(
-        s + " " + ranges.loc[name, f"{a} / uniform, {s}"].split(" (")[0].replace(" to ", "\u2013")
+        s + " " + cost_table.loc[name, f"{a} / uniform, {s}"].split(" (")[0].replace(" to ", "\u2013")
         for a, s in (("spline", "iterated"), ("spline, 1 sweep", "1 sweep"))),
         transform=ax.transAxes, ha="right", va="top", fontsize=outputs.MIN_FONT - 0.5)
-axes[5].legend(*axes[0].get_legend_handles_labels(), loc="center", frameon=False)
-axes[5].axis("off")
-bottom.suptitle("Error against work", fontsize=11)
-bottom.supylabel("final error / scale of $y$", fontsize=outputs.MIN_FONT + 1)
-outputs.save_figure(fig, "tolerance-proportionality")
+axes[1, 2].legend(*axes[0, 0].get_legend_handles_labels(), loc="center", frameon=False)
+axes[1, 2].axis("off")
+outputs.save_figure(fig, "tolerance-cost")
 
 # %% [markdown]
-# Top: the spline's adaptive knots stay below 1 on all five problems, level
-# as rtol falls; RK45 and DOP853, which bound each step's error, exceed it,
-# RK45 on four of the five problems and DOP853 on three.  Below, each
-# problem's runs: the ratio of the table is the horizontal distance between
-# an adaptive curve and the uniform curve of the same sweeps (blue and
-# black: both iterated; orange and dashed grey: both one sweep), printed in
-# each panel.  On the Kepler orbit the adaptive knots lie one and a half
-# decades to the left of the uniform runs; on the other four they lie close
-# to them, on the pendulum to their right.
+# Each problem's runs: the cost of the table is the horizontal distance
+# between an adaptive curve and the uniform curve of the same sweeps (blue
+# and black: both iterated; orange and dashed grey: both one sweep),
+# printed in each panel.  On the Kepler orbit the adaptive knots lie one
+# and a half decades to the left of the uniform runs; on the other four
+# they lie close to them, on the pendulum to their right.
 
 # %% [markdown]
 # ### On the eccentric orbit
@@ -271,21 +269,18 @@ outputs.save_figure(fig, "tolerance-proportionality")
 kepler = cost[(cost.problem == "Kepler e = 0.9") & cost.ratio.notna()].set_index("rtol")
 one = kepler[kepler.adaptive == "spline, 1 sweep"]
 iterated = kepler[(kepler.adaptive == "spline") & (kepler.uniform == "uniform, iterated")]
-pd.DataFrame({"uniform / adaptive, 1 sweep": (1 / one.ratio).round(1),
-              "uniform / adaptive, iterated": (1 / iterated.ratio).round(1),
-              "uniform evaluations per step, iterated": (iterated.uniform_nfev / iterated.n).round(2)}
-             ).rename(index=lambda rtol: f"{rtol:.0e}")
+for label, rows in (("both 1 sweep", one), ("both iterated", iterated)):
+    print(f"{label:<14} " + ", ".join(f"{1 / r.ratio:.0f} at rtol {rtol:.0e}"
+                                      for rtol, r in rows.iterrows()))
+print("uniform evaluations per step, iterated: "
+      + ", ".join(f"{n:.2f}" for n in iterated.uniform_nfev / iterated.n))
 
 # %% [markdown]
-# At equal final error the uniform step needs 47 to 49 times the
-# evaluations of the adaptive knots with one sweep per step on both sides,
-# and 28 to 37 times when both iterate to convergence.  With one sweep the
-# ratio hardly changes with rtol.  Iterated it falls as the error falls,
-# from 37 at rtol $10^{-3}$ to 28 at $10^{-6}$: the iterated uniform run
-# needs fewer sweeps per step as its step shrinks (1.13 evaluations per step
-# at the finest matched run), so the knots gain less where more accuracy is
-# asked.  The errors of rtol $10^{-7}$ and $10^{-8}$ would need more
-# uniform steps than were run.
+# With one sweep per step on both sides the ratio hardly changes with
+# rtol.  Iterated it falls as the error falls: the iterated uniform run
+# needs fewer sweeps per step as its step shrinks, so the knots gain less
+# where more accuracy is asked.  The errors of rtol $10^{-7}$ and
+# $10^{-8}$ would need more uniform steps than were run.
 
 # %% [markdown]
 # ### Where the knots should go
@@ -380,7 +375,7 @@ print(f"adaptive knots: H - H0 takes both signs within orbits {' and '.join(chan
 # error-controlled run's until orbit 161.
 
 # %% jupyter={"source_hidden": true}
-fig, ax = plt.subplots(figsize=(outputs.WIDTH, 4.8))
+fig, ax = plt.subplots(figsize=(outputs.WIDTH, 3.6))
 styles = {"adaptive knots, rtol 0.1": ("C3", "-", 1.0),
           f"reversible steps, eps {EPS:g}": ("C0", "--", 1.5),
           f"reversible steps, eps {EPS_EQUAL_WORK:g}": ("C0", "-", 1.5)}
@@ -406,8 +401,9 @@ outputs.save_figure(fig, "variable-step-energy")
 #
 # **The matched uniform runs.**  Each problem is run with uniform steps at
 # 8 step counts per decade, log-spaced, from a coarse step to one finer
-# than the smallest adaptive error needs (`tolerance.UNIFORM_STEPS`), in
-# the three ways above (iterated to $10^{-12}$, 2 sweeps, 1 sweep).  For
+# than the smallest adaptive error needs (`tolerance.UNIFORM_STEPS`),
+# iterated to $10^{-12}$ and with 1 sweep per step, and also with 2 sweeps
+# (their costs are in `data/tolerance-cost.csv`).  For
 # each adaptive run, the step count at which a uniform run's error equals
 # the adaptive run's is interpolated on that dense curve, and a uniform
 # run with that step count is made.  How well that matches:

@@ -169,7 +169,27 @@ outputs.save_data(comparison, "composition-ratios")
 # the order-4 composition: the composition wins there.  RK4 needs 0.21 to
 # 0.28 times the evaluations of order 4 (each composed step costs three
 # implicit steps) and 0.98 to 1.6 times those of order 6; DOP853 0.065 to
-# 0.077 times those of order 6.
+# 0.077 times those of order 6.  The curves:
+
+# %% jupyter={"source_hidden": true}
+fig, bx = plt.subplots(figsize=(outputs.WIDTH, 3.4))
+short = {"Richardson (order 2 at h, h/2)": "Richardson (2 at h, h/2)", "scipy DOP853": "DOP853"}
+for method, (nfev, error) in work_curves.items():
+    color, marker = outputs.style_of(method)
+    bx.loglog(nfev, error, color=color, marker=marker, markersize=4, label=short.get(method, method),
+              linestyle="-" if method.startswith("spline") else "--")
+bx.set_xlabel("right-hand-side evaluations over $t \\in [0, 50]$")
+bx.set_ylabel("max position error")
+bx.set_title("Work against precision, ellipse $\\mu = 0.6$", loc="left")
+bx.set_ylim(1e-19, 1.0)   # room below the curves for the key
+bx.legend(loc="lower left", fontsize=outputs.MIN_FONT, ncol=3, handlelength=1.6,
+          columnspacing=0.8)
+outputs.save_figure(fig, "composition-work")
+
+# %% [markdown]
+# On this short run DOP853 wins against both compositions and RK4 against
+# order 4, while order 6 costs about what RK4 does at low accuracy and less
+# at high.  The composition's one advantage shows only over long runs.
 
 # %% [markdown]
 # ### Long time: 10,000 orbits
@@ -268,15 +288,12 @@ print(outputs.wrapped(
 # passes the composition's, near orbit 4290, the velocities of both runs
 # are far off (see the end): the composition's bounded energy pays only in
 # runs whose phase is lost anyway.
-#
-# The figure shows both parts: the long run above, the work against
-# precision (previous section) below.
 
 # %% jupyter={"source_hidden": true}
 exact_y, exact_yp = ellipse.reference(np.linspace(0.0, period_ellipse, 4001))
 threshold = {"y": check.ACCUMULATED_FRACTION * np.max(np.abs(exact_y)),
              "yp": check.ACCUMULATED_FRACTION * np.max(np.abs(exact_yp))}
-fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0))
+fig, ax = plt.subplots(figsize=(outputs.WIDTH, 3.6))
 for method, g in growth.items():
     color = outputs.style_of(method)[0]
     ax.loglog(g.index, g.energy_error, "o-", color=color, markersize=4, label=method)
@@ -289,26 +306,13 @@ ax.set_title("10,000 orbits: $|H - H_0|$ (o, solid), position error (x, dotted)"
 ax.set_ylim(1e-10, 1e4)
 ax.legend(loc="upper center", fontsize=outputs.MIN_FONT, ncol=4, handlelength=1.6,
           columnspacing=0.8)
-short = {"Richardson (order 2 at h, h/2)": "Richardson (2 at h, h/2)", "scipy DOP853": "DOP853"}
-for method, (nfev, error) in work_curves.items():
-    color, marker = outputs.style_of(method)
-    bx.loglog(nfev, error, color=color, marker=marker, markersize=4, label=short.get(method, method),
-              linestyle="-" if method.startswith("spline") else "--")
-bx.set_xlabel("right-hand-side evaluations over $t \\in [0, 50]$")
-bx.set_ylabel("max position error")
-bx.set_title("Work against precision, ellipse $\\mu = 0.6$", loc="left")
-bx.set_ylim(1e-19, 1.0)   # room below the curves for the key
-bx.legend(loc="lower left", fontsize=outputs.MIN_FONT, ncol=3, handlelength=1.6,
-          columnspacing=0.8)
-outputs.save_figure(fig, "composition")
+outputs.save_figure(fig, "composition-long")
 
 # %% [markdown]
-# Above, the two spline runs' energy errors (solid) are level lines, RK4's
-# climbs through the composition's near orbit 4290; the position errors
-# (dotted) all climb to the size of the orbit, through the step-size
-# check's threshold (dashed grey; the check's verdict is at the end).  Below, on this short run
-# DOP853 wins against both compositions and RK4 against order 4, while
-# order 6 costs about what RK4 does at low accuracy and less at high.
+# The two spline runs' energy errors (solid) are level lines; RK4's climbs
+# through the composition's near orbit 4290.  The position errors (dotted)
+# all climb to the size of the orbit, through the step-size check's
+# threshold (dashed grey; the check's verdict is at the end).
 #
 # The composition is symmetric but not conjugate to Verlet (its sub-steps
 # differ, so no single change of variables as in notebook 05 applies); its

@@ -85,6 +85,19 @@ def test_false_alarms_and_misses_over_runs_of_known_error():
             and r["problem"].startswith("chain")} == {0.005, 0.01}
 
 
+def test_verdicts_name_each_run_by_its_error_and_warning():
+    """alarms.verdicts on rows at each side of the two thresholds (1 % and
+    10 % of the scale), and tally's counts from the same rows."""
+    from splinestep.analysis import alarms
+    rows = [dict(status=0, relative_error=e, warned=w)
+            for e, w in ((0.009, True), (0.009, False), (0.011, True), (0.099, False),
+                         (0.11, False), (0.11, True))]
+    rows.append(dict(status=-1, relative_error=np.nan, warned=False))
+    assert alarms.verdicts(rows) == ["false alarm", "right", "between", "between", "miss",
+                                     "right", "run failed"]
+    assert alarms.tally(rows) == (1, 2, 1, 2)
+
+
 def test_a_chaotic_damped_run_is_flagged():
     """The Ueda oscillator y'' = -0.05 y' - y^3 + 7.5 cos t from (1, 0) over
     (0, 300) at h = 0.05 is chaotic: the run strays about as far from the

@@ -40,6 +40,17 @@ def test_two_step_relation_order_and_period_error():
     assert theory.oscillator_period_error(x) == measured
 
 
+def test_verlet_in_other_variables_is_the_same_relation():
+    """Q = q - h^2 f(q)/6 turns the spline's relation into Verlet's: the
+    difference simplifies to 0, and with sigma = zeta (Verlet's own
+    relation in q) instead it would not."""
+    assert theory.verlet_in_other_variables() == 0
+    q0, q1, q2, f0, f1, f2 = sp.symbols("q0 q1 q2 f0 f1 f2")
+    plain = theory.h ** 2 * f1 - (q0 - 2 * q1 + q2)
+    spline = theory.h ** 2 * (f0 + 4 * f1 + f2) / 6 - (q0 - 2 * q1 + q2)
+    assert sp.simplify(plain - spline) != 0
+
+
 def test_derivations_typeset_as_latex():
     err_y, _ = theory.local_errors()
     assert theory.latex(err_y, "rev-lex") == (r"\frac{h^{4} y^{(4)}}{24} + \frac{7 h^{5} y^{(5)}}{360}"

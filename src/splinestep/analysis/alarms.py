@@ -120,12 +120,32 @@ def runs():
     return rows
 
 
+def verdicts(rows, silent=0.01, loud=0.1):
+    """The check's verdict on each run, in order: "run failed" (status not
+    0); among the runs that reached the end, accurate below ``silent`` of
+    the scale and inaccurate above ``loud``, "false alarm" (accurate and
+    warned), "miss" (inaccurate and silent), "right" (otherwise: warned when
+    inaccurate, silent when accurate) or "between" (neither accurate nor
+    inaccurate, where either answer is fair)."""
+    out = []
+    for r in rows:
+        if r["status"] != 0:
+            out.append("run failed")
+        elif r["relative_error"] < silent:
+            out.append("false alarm" if r["warned"] else "right")
+        elif r["relative_error"] > loud:
+            out.append("right" if r["warned"] else "miss")
+        else:
+            out.append("between")
+    return out
+
+
 def tally(rows, silent=0.01, loud=0.1):
     """(false alarms, accurate runs, misses, inaccurate runs) among the runs
     that reached the end: accurate below ``silent`` of the scale,
-    inaccurate above ``loud``."""
+    inaccurate above ``loud`` (the counts of :func:`verdicts`)."""
     done = [r for r in rows if r["status"] == 0]
-    accurate = [r for r in done if r["relative_error"] < silent]
-    inaccurate = [r for r in done if r["relative_error"] > loud]
-    return (sum(r["warned"] for r in accurate), len(accurate),
-            sum(not r["warned"] for r in inaccurate), len(inaccurate))
+    accurate = sum(r["relative_error"] < silent for r in done)
+    inaccurate = sum(r["relative_error"] > loud for r in done)
+    found = verdicts(rows, silent, loud)
+    return found.count("false alarm"), accurate, found.count("miss"), inaccurate

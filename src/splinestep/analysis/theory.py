@@ -181,6 +181,18 @@ def modified_potential(V, Q, order=4):
     return sp.expand(-sp.integrate(force, Q))
 
 
+def verlet_in_other_variables():
+    """The two-step relation of the spline stepper in q,
+    q0 - 2 q1 + q2 = h^2 (f0 + 4 f1 + f2) / 6, subtracted from Stormer-
+    Verlet's in Q = q - h^2 f(q) / 6, Q0 - 2 Q1 + Q2 = h^2 f1, simplified:
+    zero when the two are the same relation."""
+    q0, q1, q2, f0, f1, f2 = sp.symbols("q0 q1 q2 f0 f1 f2")
+    spline = h ** 2 * (f0 + 4 * f1 + f2) / 6 - (q0 - 2 * q1 + q2)
+    Q = [qi - h ** 2 * fi / 6 for qi, fi in ((q0, f0), (q1, f1), (q2, f2))]
+    verlet = h ** 2 * f1 - (Q[0] - 2 * Q[1] + Q[2])
+    return sp.simplify(verlet - spline)
+
+
 def two_step_oscillator(y0, y1, h, steps, omega=1.0):
     """The spline stepper's two-step method on y'' = -omega^2 y, from given
     starting values: ``y_{n+1} - 2 y_n + y_{n-1} = h^2 (f_{n+1} + 4 f_n + f_{n-1})/6``
