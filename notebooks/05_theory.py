@@ -385,20 +385,8 @@ display(Math(theory.aligned([
 # %%
 mu, h = 0.6, ellipse.h
 n_conj = int(round(100 * problems.orbit_elements(mu)["period"] / h))
-t_conj = h * np.arange(0, n_conj + 1, 211)
-span = (0.0, n_conj * h)  # a whole number of steps: the map uses h
-spline_run = splinestep.solve(ellipse.fun, span, ellipse.y0, ellipse.yp0, h, args=ellipse.args,
-                              t_eval=t_conj)
-Q_spline, P_spline = conjugacy.to_verlet(t_conj, spline_run.y, spline_run.yp, ellipse.fun, h,
-                                         ellipse.args)
-Q0, P0 = conjugacy.to_verlet(t_conj[:1], ellipse.y0[:, None], ellipse.yp0[:, None],
-                             ellipse.fun, h, ellipse.args)
-modified = conjugacy.modified_force(ellipse.fun, ellipse.jac, h, ellipse.args)
-verlet_modified = splinestep.verlet(modified, span, Q0[:, 0], P0[:, 0], h, t_eval=t_conj)
-verlet_plain = splinestep.verlet(ellipse.fun, span, ellipse.y0, ellipse.yp0, h,
-                                 args=ellipse.args, t_eval=t_conj)
-conj_gap = np.max(np.abs(np.vstack([Q_spline - verlet_modified.y, P_spline - verlet_modified.yp])))
-plain_gap = np.max(np.abs(verlet_plain.y - spline_run.y))
+compared = conjugacy.compare(ellipse, n_conj, every=211)
+spline_run, conj_gap, plain_gap = (compared[k] for k in ("spline", "conjugate_gap", "plain_gap"))
 print(f"{n_conj} steps: |Verlet on f~ - phi(spline)| <= {conj_gap:.1e}")
 print(f"  |Verlet on f - spline| up to {plain_gap:.2f}")
 

@@ -261,9 +261,8 @@ outputs.save_figure(fig, "tolerance-cost")
 # they lie close to them, on the pendulum to their right.
 
 # %% [markdown]
-# ### On the eccentric orbit
-# The orbit is where adaptive knots pay.  Uniform evaluations over adaptive
-# ones at equal final error, for each rtol the uniform runs reach:
+# The orbit is where adaptive knots pay.  Its uniform evaluations over the
+# adaptive ones at equal final error, for each rtol the uniform runs reach:
 
 # %%
 kepler = cost[(cost.problem == "Kepler e = 0.9") & cost.ratio.notna()].set_index("rtol")
@@ -331,20 +330,9 @@ graded.pivot_table(index=["problem", "n"], columns="exponent", values="error_ove
 # %%
 ORBITS = 300
 long_orbit = problems.eccentric(0.9, orbits=ORBITS)
-energy = long_orbit.invariants["energy"]
-e0 = energy(long_orbit.y0[:, None], long_orbit.yp0[:, None])[0]
 EPS, EPS_EQUAL_WORK = 1e-2, 3.35e-3
-long_runs = {"adaptive knots, rtol 0.1": long_orbit.solve(h="adaptive", rtol=0.1, atol=1e-4)}
-for eps in (EPS, EPS_EQUAL_WORK):
-    long_runs[f"reversible steps, eps {eps:g}"] = splinestep.solve_reversible(
-        long_orbit.fun, long_orbit.t_span, long_orbit.y0, long_orbit.yp0, eps,
-        problems.step_size_control, args=long_orbit.args)
-by_orbit = {label: adaptive.energy_per_orbit(res, energy, e0, period, ORBITS)
-            for label, res in long_runs.items()}
-long_table = pd.concat([pd.DataFrame(dict(
-    method=label, orbit=np.arange(1, ORBITS + 1),
-    energy_error=by_orbit[label].apply(lambda g: g.abs().max()).to_numpy(),
-    nfev_per_orbit=res.nfev / ORBITS)) for label, res in long_runs.items()], ignore_index=True)
+long_runs, by_orbit, long_table = adaptive.variable_step_runs(
+    long_orbit, ORBITS, period, 0.1, 1e-4, (EPS, EPS_EQUAL_WORK), problems.step_size_control)
 outputs.save_data(long_table, "variable-step-energy")
 
 # %%

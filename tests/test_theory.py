@@ -95,6 +95,11 @@ def test_verlet_on_the_modified_force_reproduces_the_spline():
     plain = splinestep.verlet(ellipse.fun, (0.0, n * h), ellipse.y0, ellipse.yp0, h,
                               args=ellipse.args, t_eval=t)
     assert np.max(np.abs(plain.y - spline.y)) > 1e-3
+    # conjugacy.compare (notebook 05) measures the same
+    found = conjugacy.compare(ellipse, n, every=97)
+    assert np.array_equal(found["spline"].y, spline.y)
+    assert found["conjugate_gap"] == max(np.max(np.abs(verlet.y - Q)), np.max(np.abs(verlet.yp - P)))
+    assert found["plain_gap"] == np.max(np.abs(plain.y - spline.y))
     # Verlet's exact angular momentum Q x P, in the spline's variables
     r = np.hypot(*spline.y)
     L = (1 + h * h * 0.6 / (6 * r ** 3)) * (spline.y[0] * spline.yp[1] - spline.y[1] * spline.yp[0])

@@ -59,3 +59,37 @@ def orbits_changing_sign(signed):
     both = np.flatnonzero((signed.max() > 0) & (signed.min() < 0)) + 1
     runs = np.split(both, np.flatnonzero(np.diff(both) > 1) + 1)
     return [f"{r[0]}-{r[-1]}" for r in runs if r.size]
+
+
+def variable_step_runs(problem, orbits, period, rtol, atol, eps_values, step_size_control):
+    """One Kepler problem over ``orbits`` orbits of length ``period``, run
+    with error-controlled knots at ``rtol``, ``atol`` and with
+    time-reversible steps (:func:`splinestep.solve_reversible`, the control
+    ``step_size_control``) at each of ``eps_values``.
+
+    Returns
+    -------
+    runs : dict
+        {label: result}, labels "adaptive knots, rtol R" and "reversible
+        steps, eps E".
+    by_orbit : dict
+        {label: :func:`energy_per_orbit` of the run}.
+    table : pandas.DataFrame
+        One row per run and orbit: method, orbit, energy_error (the largest
+        |H - H0| at the run's own knots in that orbit), nfev_per_orbit.
+    """
+    from .. import solve_reversible
+    energy = problem.invariants["energy"]
+    e0 = energy(problem.y0[:, None], problem.yp0[:, None])[0]
+    runs = {f"adaptive knots, rtol {rtol:g}": problem.solve(h="adaptive", rtol=rtol, atol=atol)}
+    for eps in eps_values:
+        runs[f"reversible steps, eps {eps:g}"] = solve_reversible(
+            problem.fun, problem.t_span, problem.y0, problem.yp0, eps, step_size_control,
+            args=problem.args)
+    by_orbit = {label: energy_per_orbit(res, energy, e0, period, orbits)
+                for label, res in runs.items()}
+    table = pd.concat([pd.DataFrame(dict(
+        method=label, orbit=np.arange(1, orbits + 1),
+        energy_error=by_orbit[label].apply(lambda g: g.abs().max()).to_numpy(),
+        nfev_per_orbit=res.nfev / orbits)) for label, res in runs.items()], ignore_index=True)
+    return runs, by_orbit, table

@@ -89,3 +89,33 @@ def modified_force(fun, jac, h, args=()):
         return out
 
     return force
+
+
+def compare(problem, steps, every=1):
+    """The spline's run of ``problem`` over ``steps`` steps of its own h,
+    mapped to Verlet's variables, against velocity Verlet on the modified
+    force started from the mapped initial state, and against plain Verlet
+    on f; sampled every ``every`` steps.
+
+    Returns
+    -------
+    dict
+        ``spline``: the spline's result (at the sampled knots);
+        ``conjugate_gap``: the largest |Verlet on f~ - chi(spline)| over
+        positions and velocities; ``plain_gap``: the largest
+        |Verlet on f - spline| over positions.
+    """
+    from .. import solve, verlet
+    h, span = problem.h, (0.0, steps * problem.h)   # a whole number of steps: chi uses h
+    t = h * np.arange(0, steps + 1, every)
+    spline = solve(problem.fun, span, problem.y0, problem.yp0, h, args=problem.args, t_eval=t)
+    Q, P = to_verlet(t, spline.y, spline.yp, problem.fun, h, problem.args)
+    Q0, P0 = to_verlet(t[:1], problem.y0[:, None], problem.yp0[:, None], problem.fun, h,
+                       problem.args)
+    force = modified_force(problem.fun, problem.jac, h, problem.args)
+    on_modified = verlet(force, span, Q0[:, 0], P0[:, 0], h, t_eval=t)
+    plain = verlet(problem.fun, span, problem.y0, problem.yp0, h, args=problem.args, t_eval=t)
+    return dict(spline=spline,
+                conjugate_gap=float(np.max(np.abs(np.vstack([Q - on_modified.y,
+                                                             P - on_modified.yp])))),
+                plain_gap=float(np.max(np.abs(plain.y - spline.y))))
