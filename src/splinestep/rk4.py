@@ -23,8 +23,10 @@ def rk4(fun, t_span, y0, yp0, h, *, t_eval=None, args=(), events=None, max_steps
         interpreter.
     t_span : (float, float)
         Interval of integration (t0, tf); tf < t0 integrates backwards.
-    y0, yp0 : float or array_like, shape (m,)
-        Initial value and first derivative.
+    y0 : float or array_like, shape (m,)
+        Initial value.
+    yp0 : float or array_like, shape (m,)
+        Initial first derivative.
     h : float
         Step.  The last step is shortened to end exactly at tf.
     t_eval : array_like, optional

@@ -110,8 +110,10 @@ def solve(fun, t_span, y0, yp0, h=None, *, knots=None, t_eval=None, args=(), eve
         per evaluation.
     t_span : (float, float)
         Interval of integration (t0, tf); tf < t0 integrates backwards.
-    y0, yp0 : float or array_like, shape (m,)
-        Initial value and initial first derivative (real).
+    y0 : float or array_like, shape (m,)
+        Initial value (real).
+    yp0 : float or array_like, shape (m,)
+        Initial first derivative (real).
     h : float, optional
         Uniform step (positive; the direction comes from ``t_span``).  When
         the span is not a multiple of h, the last step is shortened to end

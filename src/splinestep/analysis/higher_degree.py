@@ -49,8 +49,10 @@ def solve_degree(fun, t_span, y0, yp0, h, degree, *, derivatives=None, args=(), 
         ``fun(t, y, yp, *args) -> y''`` (a plain or compiled function).
     t_span : (float, float)
         t0 < tf.
-    y0, yp0 : float or array_like, shape (m,)
-        Initial value and first derivative.
+    y0 : float or array_like, shape (m,)
+        Initial value.
+    yp0 : float or array_like, shape (m,)
+        Initial first derivative.
     h : float
         Uniform step; the last step is shortened to end at tf.
     degree : int

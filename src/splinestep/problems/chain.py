@@ -68,11 +68,13 @@ def chain(m, y0=None, yp0=None, periods=3.0, omega_h=1.0):
     ----------
     m : int
         Number of masses (>= 1).
-    y0, yp0 : array_like of shape (m,), optional
-        Initial displacements and velocities.  By default the string's two
-        slowest shapes, y0_i = sin(pi x_i) + 0.5 sin(2 pi x_i) with x_i = i /
-        (m + 1), from rest: a smooth solution, whose error at a fixed step
-        is that of its slow modes, so that each method shows its order.
+    y0 : array_like of shape (m,), optional
+        Initial displacements.  By default the string's two slowest shapes,
+        y0_i = sin(pi x_i) + 0.5 sin(2 pi x_i) with x_i = i / (m + 1): a
+        smooth solution, whose error at a fixed step is that of its slow
+        modes, so that each method shows its order.
+    yp0 : array_like of shape (m,), optional
+        Initial velocities; by default zero (from rest).
     periods : float
         The span: this many periods 2 pi / omega_1 of the slowest mode.
     omega_h : float
