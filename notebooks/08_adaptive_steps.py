@@ -37,7 +37,7 @@ import pandas as pd
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
 import splinestep
-from splinestep import controllers, problems
+from splinestep import problems
 from matplotlib.lines import Line2D
 from splinestep.analysis import adaptive, tolerance
 
@@ -69,16 +69,9 @@ plt = outputs.setup()
 orbit = problems.eccentric(0.9)
 period = orbit.t_span[1]
 run = orbit.solve(h="adaptive", rtol=1e-3, atol=1e-6)
-estimate, _ = controllers.jump_estimates(run.t, run.ypp)
-steps = np.arange(1, run.t.size - 1)   # every step but the first (the estimate needs the one before)
-estimates = pd.DataFrame(dict(t=run.t[steps], h=np.diff(run.t)[steps],
-                              r=np.hypot(*run.y[:, steps]), estimated=estimate[steps - 1],
-                              true=adaptive.true_local_errors(orbit, run.t[1:])))
+estimates = adaptive.estimates_along(orbit, run)   # every step but the first
 outputs.save_data(estimates, "adaptive-estimate")
-# Near periapsis a step's local error is below its rounding (about 1e-16 here), and late
-# in the period the reference's rounding (about 1e-13) sets the "true" error: the
-# comparison keeps the steps whose true local error is above ROUNDING_LEVEL.
-ROUNDING_LEVEL = 1e-12
+ROUNDING_LEVEL = 1e-12   # below it the "true" local error is rounding (see the end)
 resolved = estimates[estimates.true > ROUNDING_LEVEL]
 ratio = resolved.estimated / resolved.true
 print(outputs.wrapped(
@@ -101,18 +94,15 @@ print(outputs.wrapped(
     f"(r = {r_knots.max():.2f}) {h_steps[np.argmax(r_knots[1:])]:.2g}"))
 
 # %% [markdown]
-# After a start-up from $7.2 \times 10^{-6}$, the steps grow out towards
-# apoapsis, to 2.6 at $r = 17.84$, and shrink again towards the closing
-# periapsis passage (the last step, cut to end the period, is
-# $3.0 \times 10^{-4}$).  At apoapsis itself ($r = 19.00$) the
-# step drops to 0.56: the error norm weighs each velocity component by its
-# own size, and $x'$ passes through zero there.  It dips deeper, by more
-# than a decade, where $y'$ passes through zero, at the ends of the minor
-# axis ($r = a = 10$).  Both, with the estimate against the true local
-# error, step by step:
+# The steps grow out towards apoapsis and shrink again towards the closing
+# periapsis.  They dip where a velocity component passes through zero (the
+# error norm weighs each by its own size): to 0.56 at apoapsis, where $x'$
+# does, and by more than a decade at the ends of the minor axis, where $y'$
+# does.  The steps, with the estimate against the true local error:
 
 # %% jupyter={"source_hidden": true}
 fig, ax = plt.subplots(figsize=(outputs.WIDTH, 3.2))
+steps = np.arange(1, len(estimates) + 1)   # the step numbers: the first has no estimate
 # Only the steps whose true local error is above the rounding of the
 # measurement (below it the dots are rounding noise, different on every CPU).
 ax.semilogy(steps[estimates.true > ROUNDING_LEVEL], resolved.true, ".", color="0.55",
@@ -321,11 +311,10 @@ graded.pivot_table(index=["problem", "n"], columns="exponent", values="error_ove
 # symmetric, so the whole method is.
 #
 # We run 300 orbits of the $e = 0.9$ orbit three ways: error-controlled knots
-# at rtol 0.1, reversible steps at $\varepsilon = 10^{-2}$, and reversible
-# steps at the $\varepsilon$ that spends the same evaluations per orbit as
-# the error-controlled run.  For each orbit we take the largest energy
-# error over the method's own knots (a fixed time such as the exact orbit's
-# apoapsis would drift off the computed orbit's, whose phase lags).
+# at rtol 0.1, and reversible steps at $\varepsilon = 10^{-2}$ and at the
+# $\varepsilon$ that spends the same evaluations per orbit as the
+# error-controlled run, taking in each orbit the largest energy error over
+# the method's own knots.
 
 # %%
 ORBITS = 300

@@ -93,3 +93,17 @@ def variable_step_runs(problem, orbits, period, rtol, atol, eps_values, step_siz
         energy_error=by_orbit[label].apply(lambda g: g.abs().max()).to_numpy(),
         nfev_per_orbit=res.nfev / orbits)) for label, res in runs.items()], ignore_index=True)
     return runs, by_orbit, table
+
+
+def estimates_along(problem, run):
+    """Each step of an adaptive ``run`` of ``problem`` but the first (the
+    jump estimate needs the step before): its start t, size h, radius r
+    (for a planar orbit), the controller's estimate of its local error
+    (:func:`splinestep.controllers.jump_estimates`) and its true local
+    error (:func:`true_local_errors`), as a DataFrame."""
+    from ..controllers import jump_estimates
+    estimate, _ = jump_estimates(run.t, run.ypp)
+    steps = np.arange(1, run.t.size - 1)
+    return pd.DataFrame(dict(t=run.t[steps], h=np.diff(run.t)[steps],
+                             r=np.hypot(*run.y[:, steps]), estimated=estimate[steps - 1],
+                             true=true_local_errors(problem, run.t[1:])))
