@@ -227,7 +227,8 @@ def plain(value, digits=2):
 GREEK = {"alpha": "\u03b1", "beta": "\u03b2", "gamma": "\u03b3", "Delta": "\u0394",
          "delta": "\u03b4", "zeta": "\u03b6", "theta": "\u03b8", "kappa": "\u03ba",
          "lambda": "\u03bb", "mu": "\u03bc", "nu": "\u03bd", "pi": "\u03c0", "rho": "\u03c1",
-         "sigma": "\u03c3", "omega": "\u03c9"}
+         "sigma": "\u03c3", "omega": "\u03c9", "Omega": "\u03a9", "epsilon": "\u03b5",
+         "xi": "\u03be"}
 
 
 def readable(text):
@@ -246,6 +247,40 @@ def readable(text):
     text = re.sub(r"sqrt\((\w+)\)", "\u221a\\1", text)
     text = re.sub(r"(^|[^/\w])dt\b", "\\1\u0394t", text)
     return text.replace("<=", "\u2264").replace(">=", "\u2265").replace(" -> ", " \u2192 ")
+
+
+def html_table(frame, raw=(), widths=None, text=str):
+    """``frame`` as an HTML table that reads the same in JupyterLab and on
+    the site: left-aligned text that wraps at word breaks, a line between
+    rows, no index (inline styles: JupyterLab drops the style sheets of
+    untrusted outputs).  Formulas between dollars are left for MathJax.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        The table; its index is not shown.
+    raw : collection of str
+        Columns that are HTML already; the others are escaped.
+    widths : dict, optional
+        {column: least width}, e.g. "9em", for columns that must not wrap
+        to a sliver.
+    text : callable
+        Applied to each escaped cell's ``str`` (e.g. :func:`readable`).
+    """
+    from html import escape
+    style = "text-align: left; vertical-align: top"
+    widths = widths or {}
+    head = "".join(f'<th style="{style}; min-width: {widths.get(c, "0")}">{escape(str(c))}</th>'
+                   for c in frame.columns)
+
+    def cell(column, value):
+        return str(value) if column in raw else escape(text(str(value)))
+
+    rows = "".join("<tr>" + "".join(
+        f'<td style="{style}; border-top: 1px solid #ccc">{cell(c, v)}</td>'
+        for c, v in zip(frame.columns, values)) + "</tr>"
+        for values in frame.itertuples(index=False))
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>"
 
 
 def round_sig(value, digits=2):
