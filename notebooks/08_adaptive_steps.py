@@ -33,6 +33,7 @@ import sys
 
 import numpy as np
 import pandas as pd
+from IPython.display import HTML, display
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
@@ -141,12 +142,13 @@ tolerance_table = pd.concat(
      .assign(problem=name) for name, problem in study.items()], ignore_index=True)
 outputs.save_data(tolerance_table, "tolerance-proportionality")
 spline_rows = tolerance_table[tolerance_table.method.str.startswith("spline")]
-spline_rows.groupby("problem", sort=False).apply(lambda g: pd.Series({
+bounds = spline_rows.groupby("problem", sort=False).apply(lambda g: pd.Series({
     "largest error / (rtol scale), y": g[g.method == "spline"].error_ratio.max(),
     "y'": g[g.method == "spline"].error_ratio_yp.max(),
     "y, one sweep per step": g[g.method != "spline"].error_ratio.max(),
     "slope of error against rtol": tolerance.slope(RTOLS, g[g.method == "spline"].error)}),
-    include_groups=False).round(2)
+    include_groups=False)
+display(HTML(outputs.html_table(bounds.map("{:.2f}".format).reset_index())))
 
 # %% [markdown]
 # On all five problems the final error of $y$ stays below rtol times the
@@ -199,11 +201,12 @@ outputs.save_data(uniform_table, "tolerance-uniform")
 cost = tolerance.cost_ratios(study, tolerance_table, uniform_table)
 outputs.save_data(cost, "tolerance-cost")
 cost_table = tolerance.ratio_ranges(cost)
-cost_table[["spline / uniform, iterated", "spline / uniform, 1 sweep",
-            "spline, 1 sweep / uniform, 1 sweep"]].rename(columns={
+shown = cost_table[["spline / uniform, iterated", "spline / uniform, 1 sweep",
+                    "spline, 1 sweep / uniform, 1 sweep"]].rename(columns={
     "spline / uniform, iterated": "both iterated",
     "spline / uniform, 1 sweep": "adaptive iterated, uniform 1 sweep",
     "spline, 1 sweep / uniform, 1 sweep": "both 1 sweep"})
+display(HTML(outputs.html_table(shown.rename_axis("problem").reset_index())))
 
 # %% [markdown]
 # Both iterated (the first column), the knots save 28 to 37 times on the
@@ -282,8 +285,10 @@ print("uniform evaluations per step, iterated: "
 graded = pd.concat([tolerance.graded_runs(study[name], (0, 1 / 3, 1 / 2), counts).assign(problem=name)
                     for name, counts in (("pendulum, 3 rad", (4000, 16000)),
                                          ("Kepler e = 0.9", (16000, 64000)))])
-graded.pivot_table(index=["problem", "n"], columns="exponent", values="error_over_uniform",
-                   sort=False).rename(columns=lambda a: f"a = {a:.2g}").map(lambda r: f"{r:.2g}")
+graded_table = graded.pivot_table(index=["problem", "n"], columns="exponent",
+                                  values="error_over_uniform", sort=False)
+display(HTML(outputs.html_table(graded_table.rename(columns=lambda a: f"a = {a:.2g}")
+                                .map(lambda r: f"{r:.2g}").reset_index())))
 
 # %% [markdown]
 # On the pendulum every grading loses to uniform knots: the errors made

@@ -222,3 +222,10 @@ def phase_drifts(t, y, y_exact, period):
     return dict(drift_from_angle=phase_drift_from_angle(t, y, y_exact, period),
                 drift_from_passages=by_passages, period_error=period_error,
                 precession_per_orbit=precession)
+
+
+def extrema(values):
+    """Indices of the interior local maxima and minima of a sampled curve
+    (where its slope changes sign)."""
+    slope = np.sign(np.diff(values))
+    return np.flatnonzero(slope[1:] * slope[:-1] < 0) + 1
