@@ -154,8 +154,10 @@ outputs.save_figure(fig, "long-time-invariants")
 # by $2.2 \times 10^{-11}$ only, an $O(h^4)$ quantity: the bounded error is
 # the conjugacy's modified energy at work.  Its angular momentum
 # $q \times v$ oscillates without drift (exponent +0.00), and
-# $(1 + h^2\mu/6r^3)\, q \times v$ is constant to $2.9 \times 10^{-12}$,
-# the level set by the step equation's tolerance $10^{-12}$ and rounding.
+# $(1 + h^2\mu/6r^3)\, q \times v$ stays within $2.9 \times 10^{-12}$ of its
+# start: it drifts only as the step equation's tolerance $10^{-12}$ and
+# rounding accumulate (the dashed curve of the figure climbs from about
+# $10^{-14}$ to that level).
 # RK4 drifts (exponent +0.99), and so does the spline with one sweep per
 # step (+1.01).  DOP853 is not a comparison at equal work: with a
 # first-orbit error 52 times smaller than the spline's it needs about 200
