@@ -3,11 +3,8 @@
 #
 # The verdict first: how many of the report's claims the notebooks
 # reproduce, and how many of its suggestions they build.  Every number in
-# the tables below is read from the data the earlier notebooks wrote
-# (`data/*.csv`) or computed with the package; none is typed.  Each claim
-# is one function of `scripts/claims.py`, which reads the measurements and
-# returns the verdict; the tables are written to `data/claims.csv` and
-# `data/errata.csv`, and `make reproduce` copies them into the README.
+# the tables below is read from the data the earlier notebooks wrote; none
+# is typed (how, at the end).
 
 # %%
 import sys
@@ -59,15 +56,6 @@ display(HTML(claims.folded(claims.table_html(detail),
                            f"The measurements and the verdicts, {len(detail)} claims")))
 
 # %% [markdown]
-# The paper (`paper/splinestep.typ`) states a few of these numbers in its
-# prose; they are written with the text it prints to
-# `data/headline-numbers.csv`.
-
-# %%
-headline = claims.headline_numbers(measured)
-outputs.save_data(headline, "headline-numbers")
-
-# %% [markdown]
 # ## Errata
 #
 # Each line is checked against the report's own derivation, with the
@@ -86,3 +74,17 @@ print(f"first zero at t = {crossing:.3f}")
 errata = claims.errata_table(measured, crossing)
 outputs.save_data(errata, "errata")
 display(HTML(claims.table_html(claims.with_links(errata, **links), raw=("where",))))
+
+# %% [markdown]
+# ## How the tables are made
+#
+# Each claim is one function of `scripts/claims.py`, which reads the
+# measurements (`data/*.csv`) and returns the verdict; the tables are
+# written to `data/claims.csv` and `data/errata.csv`, and `make reproduce`
+# copies the claims into the README.  The paper (`paper/splinestep.typ`)
+# states a few of these numbers in its prose; they are written with the
+# text it prints to `data/headline-numbers.csv`.
+
+# %%
+headline = claims.headline_numbers(measured)
+outputs.save_data(headline, "headline-numbers")

@@ -270,14 +270,15 @@ def html_table(frame, raw=(), widths=None, text=str):
     from html import escape
     style = "text-align: left; vertical-align: top"
     widths = widths or {}
-    head = "".join(f'<th style="{style}; min-width: {widths.get(c, "0")}">{escape(str(c))}</th>'
-                   for c in frame.columns)
+    head = "".join(f'<th style="{style}; padding: 0.25em 0.75em 0.25em 0; '
+                   f'min-width: {widths.get(c, "0")}">{escape(str(c))}</th>' for c in frame.columns)
 
     def cell(column, value):
         return str(value) if column in raw else escape(text(str(value)))
 
     rows = "".join("<tr>" + "".join(
-        f'<td style="{style}; border-top: 1px solid #ccc">{cell(c, v)}</td>'
+        f'<td style="{style}; padding: 0.25em 0.75em 0.25em 0; border-top: 1px solid #ccc">'
+        f"{cell(c, v)}</td>"
         for c, v in zip(frame.columns, values)) + "</tr>"
         for values in frame.itertuples(index=False))
     return f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>"

@@ -11,6 +11,7 @@ any notebook, for the README) or in a summary file of data/ (time series,
 whose thousands of values would match almost any number, do not count).
 """
 
+import html
 import json
 import math
 import re
@@ -107,6 +108,10 @@ def output_numbers(ipynb):
             texts.append("".join(out.get("text", "")))
             for key in ("text/plain", "text/markdown"):
                 texts.append("".join(out.get("data", {}).get(key, "")))
+            # a table shown as HTML: its text, as the reader sees it (cells apart)
+            table = "".join(out.get("data", {}).get("text/html", ""))
+            texts.append(html.unescape(re.sub(r"<[^>]+>", " ", re.sub(r"<style.*?</style>", " ",
+                                                                     table, flags=re.S))))
     return [v for text in texts for v, _, _ in numbers_in(text)]
 
 

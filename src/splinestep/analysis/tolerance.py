@@ -143,6 +143,28 @@ def slope(rtols, errors):
     return float(np.polyfit(np.log(rtols), np.log(errors), 1)[0])
 
 
+def bounds(table, rtols):
+    """What rtol bounds, per problem, from the rows of :func:`runs` in
+    ``table`` (a DataFrame with a ``problem`` column) at the tolerances
+    ``rtols``: the largest final error of y and of y' over rtol times the
+    solution's scale for the spline iterated to convergence, the largest of
+    y with one sweep per step, and the slope of the iterated error against
+    rtol (:func:`slope`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Indexed by problem, in the order of ``table``.
+    """
+    def one(g):
+        iterated, swept = g[g.method == "spline"], g[g.method == "spline, 1 sweep"]
+        return pd.Series({"largest error / (rtol scale), y": iterated.error_ratio.max(),
+                          "y'": iterated.error_ratio_yp.max(),
+                          "y, one sweep per step": swept.error_ratio.max(),
+                          "slope of error against rtol": slope(rtols, iterated.error)})
+    return table.groupby("problem", sort=False).apply(one, include_groups=False)
+
+
 def converging_part(curve):
     """The uniform runs of one work-precision curve (rows of
     :func:`uniform_runs`) over which the error falls as the step shrinks:
