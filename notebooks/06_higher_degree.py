@@ -4,7 +4,17 @@
 # The report suggests "higher-order polynomial splines" with more
 # continuity.  This notebook builds them as the report writes them and
 # derives their stability with sympy (`splinestep.analysis.theory`): the
-# extra roots of their recurrences decide which degrees converge.
+# extra roots of their recurrences decide which degrees converge.  What it
+# finds:
+#
+# * **Degrees 5 and 6 diverge for every step**: their recurrences have
+#   roots outside the unit circle, $2 + \sqrt 3$ and $5 + 2\sqrt 6$ in
+#   modulus, and any perturbation, rounding included, grows like them.
+# * **Degree 4 converges with order 4, but only weakly**: its extra root
+#   $-1$ sits on the unit circle and leaves it as soon as the equation is
+#   damped, and it needs the exact $y'''(0)$ to start.
+# * **The usable fourth-order method is built another way**, by symmetric
+#   composition of the cubic step (notebook 10).
 
 # %%
 import sys

@@ -22,6 +22,7 @@ import sys
 
 import numpy as np
 import pandas as pd
+from IPython.display import HTML, display
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
@@ -115,7 +116,7 @@ spline_windows = long_time[long_time.method == "spline"]
 print(f"spline, modified energy H~: largest error "
       f"{outputs.plain(spline_windows.modified_energy_error.max())}; modified angular momentum: "
       f"{outputs.plain(spline_windows.modified_momentum_error.max())}")
-long_time_analysis.drift_summary(drift)
+display(HTML(outputs.html_table(long_time_analysis.drift_summary(drift).reset_index())))
 
 # %% jupyter={"source_hidden": true}
 fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0), sharex=True)
