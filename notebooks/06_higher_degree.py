@@ -244,5 +244,4 @@ constants = pd.DataFrame([
 ], columns=["quantity", "exact", "measured", "digits"])
 outputs.save_data(constants.assign(derived=constants.exact.astype(float))
                   [["quantity", "derived", "measured"]], "higher-degree-constants")
-table = theory.constants_table(constants).map(outputs.readable)
-display(HTML(table.to_html(index=False, justify="left")))
+display(HTML(outputs.html_table(theory.constants_table(constants), text=outputs.readable)))

@@ -237,8 +237,9 @@ for method, solver, kwargs in (("spline", splinestep.solve, {}),
                                                                       exact_phase, period_T)))
 phase = pd.DataFrame(phase_rows).set_index("method")
 outputs.save_data(phase.reset_index(), "phase-drift")
-phase.rename(columns=lambda c: c.replace("_", " ") + (" (rad)" if "error" not in c else "")).map(
-    "{:+.2e}".format)
+display(HTML(outputs.html_table(phase.rename(
+    columns=lambda c: c.replace("_", " ") + (" (rad)" if "error" not in c else "")).map(
+    "{:+.2e}".format).reset_index())))
 
 # %% [markdown]
 # For the two symmetric methods, whose phase drifts at a constant rate, the

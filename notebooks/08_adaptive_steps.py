@@ -177,11 +177,11 @@ fig.legend(handles=[Line2D([], [], color="k", marker=m, linestyle="none", label=
 outputs.save_figure(fig, "tolerance-proportionality")
 
 # %% [markdown]
-# The spline's adaptive knots stay below 1 on all five problems, four of
-# them nearly level as rtol falls (the pendulum's ratio falls with rtol: its
-# error falls faster, at slope 1.28); RK45 and DOP853, which bound each
-# step's error, exceed it, RK45 on four of the five problems and DOP853 on
-# three.
+# The spline's adaptive knots stay below 1 on all five problems, though
+# not all level: the oscillator's and the pendulum's ratios change with
+# rtol (the pendulum's error falls faster than rtol, at slope 1.28).  RK45
+# and DOP853, which bound each step's error, exceed 1, RK45 on four of the
+# five problems and DOP853 on three.
 
 # %% [markdown]
 # ### What the knots cost

@@ -25,6 +25,7 @@ import warnings
 
 import numpy as np
 import pandas as pd
+from IPython.display import HTML, display
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
@@ -59,10 +60,11 @@ cases["rigid body"] = problems.rigid_body("consistent")
 STEPS = {4: np.array([0.08, 0.04, 0.02, 0.01]), 6: np.array([0.16, 0.08, 0.04])}
 orders_table = composition.orders(cases, STEPS)   # the error between the knots too
 outputs.save_data(orders_table, "composition-orders")
-print("fitted slope against the exact solution / from successive differences of the runs")
-print(orders_table.assign(both=[f"{a:.2f} / {b:.2f}" for a, b in
-                                zip(orders_table.slope, orders_table.successive_slope)])
-      .pivot(index="problem", columns="order", values="both").to_string())
+both = orders_table.assign(both=[f"{a:.2f} / {b:.2f}" for a, b in
+                                 zip(orders_table.slope, orders_table.successive_slope)])
+display(HTML(outputs.html_table(   # the fitted slope / the slope from successive differences
+    both.pivot(index="problem", columns="order", values="both").rename(
+        columns=lambda k: f"order {k}: exact / successive").reset_index(), text=outputs.readable)))
 
 # %%
 ellipse = cases["cannonball mu=0.6"]

@@ -32,7 +32,7 @@ import warnings
 
 import numpy as np
 import pandas as pd
-from IPython.display import HTML
+from IPython.display import HTML, display
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
@@ -224,11 +224,12 @@ for run_label, settings in (("uniform h = 0.0001", dict(h=1e-4)),
                                 flagged=len(caught) > 0))
 newton_table = pd.DataFrame(newton_rows)
 outputs.save_data(newton_table, "newton-reuse")
-pd.DataFrame({"F per step": (newton_table.nfev / newton_table.nstep).map("{:.2f}".format),
-              "iterations per step": (newton_table.niter / newton_table.nstep).map("{:.2f}".format),
-              "error at t = 3": newton_table.error.map("{:.1e}".format),
-              "flagged": newton_table.flagged.map({True: "yes", False: "no"})}
-             ).set_axis(pd.MultiIndex.from_frame(newton_table[["run", "method"]]))
+display(HTML(outputs.html_table(pd.DataFrame({
+    "run": newton_table.run, "method": newton_table.method,
+    "F per step": (newton_table.nfev / newton_table.nstep).map("{:.2f}".format),
+    "iterations per step": (newton_table.niter / newton_table.nstep).map("{:.2f}".format),
+    "error at t = 3": newton_table.error.map("{:.1e}".format),
+    "flagged": newton_table.flagged.map({True: "yes", False: "no"})}), text=outputs.readable)))
 
 # %%
 per_step = newton_table.assign(per_step=newton_table.nfev / newton_table.nstep).pivot(
@@ -286,7 +287,7 @@ shown_table = pd.DataFrame({
     "error / scale": [f"{e:.1e}" if status == 0 else "run failed"
                       for e, status in zip(shown.relative_error, shown.status)],
     "warned": shown.warned.map({True: "yes", False: "no"}), "verdict": shown.verdict})
-HTML(shown_table.to_html(index=False, justify="left"))
+display(HTML(outputs.html_table(shown_table)))
 
 # %% [markdown]
 # The two false alarms are the ground-motion chain at the record's interval
@@ -296,12 +297,6 @@ HTML(shown_table.to_html(index=False, justify="left"))
 # not feel it.  At twice the interval the steps skip every other sample,
 # the run is far off, and it warns, as it does at four times; at eight
 # times the run fails (its sweep contracts too slowly) and says so.
-#
-# Scaling the estimates down by the ratio of a few steps' estimates to
-# their local errors measured by step halving silences the two false
-# alarms, but also runs of a hardening oscillator under such a record
-# that are off by several per cent and more: the check does not correct
-# itself that way.
 #
 # The misses are the ones the estimates cannot see: orbits (the Kepler
 # orbit $e = 0.9$, the cannonball) whose drift amplifies the error made at

@@ -301,5 +301,5 @@ for m, row in steps.iterrows():
 # being half of it (an inference from the period error: the chain runs
 # above ask for one accuracy only); Fox-Goodwin, held to a smaller step by
 # its limit $\sqrt 6$, reaches far smaller errors still with 1.4 times the
-# report's member's steps (the table above), and should then be the
+# report's member's steps (the counts above), and should then be the
 # cheaper of the three (again inferred, not run).

@@ -19,9 +19,8 @@ measured = claims.Measured()  # data/*.csv, each read once
 table = claims.claims_table(measured)
 outputs.save_data(table, "claims")
 counts = table.kind.value_counts()
-for kind in claims.KINDS:
-    print(f"{kind:<18} {counts.get(kind, 0):2d}")
-print(f"{'rows':<18} {len(table):2d}")
+print(outputs.wrapped(f"{len(table)} rows: " + ", ".join(
+    f"{counts.get(kind, 0)} {kind}" for kind in claims.KINDS)))
 
 # %% [markdown]
 # *Reproduced*, *partly* and *not reproduced* judge what the report claims;

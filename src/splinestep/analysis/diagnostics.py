@@ -91,6 +91,36 @@ def work_to_reach(nfev, error, target):
     return float("nan")
 
 
+def reach_table(curves, methods, targets):
+    """For each method and target error, :func:`work_to_reach` on its
+    curve, with the curve's fewest and most evaluations and the errors
+    there (why a target is not read off: below the fewest's error already,
+    or not reached by the most's).
+
+    Parameters
+    ----------
+    curves : dict
+        {method: (evaluations, errors)} of a work-precision comparison.
+    methods, targets : sequence
+        The rows, in order.
+
+    Returns
+    -------
+    list of dict
+        One per method and target: method, target, nfev_interpolated,
+        fewest_tested, error_at_fewest, most_tested, error_at_most.
+    """
+    rows = []
+    for method in methods:
+        nfev, error = (np.asarray(v) for v in curves[method])
+        for target in targets:
+            rows.append(dict(method=method, target=target,
+                             nfev_interpolated=work_to_reach(nfev, error, target),
+                             fewest_tested=nfev.min(), error_at_fewest=error[np.argmin(nfev)],
+                             most_tested=nfev.max(), error_at_most=error[np.argmax(nfev)]))
+    return rows
+
+
 def ratio_range(reference, other):
     """Smallest and largest ratio other_error / reference_error at equal
     work, over the evaluation counts both curves cover (interpolated
