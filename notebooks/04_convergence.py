@@ -259,6 +259,6 @@ print(f"one sweep costs {share.min():.0%} to {share.max():.0%} of the iterated e
 # method a viable solver" is borne out.
 #
 # Among second-order methods too the spline is not the cheapest:
-# Stormer-Verlet, the same method in other variables (notebook 05),
+# Stormer-Verlet, to which the spline stepper is conjugate (notebook 05),
 # evaluates $F$ once per step, and at the same number of evaluations the
 # one-sweep spline's error is about 1.8 times Verlet's.

@@ -3,7 +3,7 @@
 #
 # Notebook 05 predicts that the spline stepper, being Stormer-Verlet in
 # other variables, keeps the energy error of a conservative problem bounded
-# however long it runs.  Measured on the report's ellipse over 10,000
+# for times exponentially long in $1/h$.  Measured on the report's ellipse over 10,000
 # orbits, the answer is yes, with two conditions and one cost:
 #
 # * the energy error stays level (fitted growth exponent +0.00, as
@@ -11,8 +11,9 @@
 #   one fixed-point sweep per step it drifts linearly (+1.01);
 # * the position is not bounded: the phase lags by a constant amount per
 #   orbit ($5.9 \times 10^{-4}$ rad at the report's step);
-# * at equal work Verlet, the same method in other variables, is the more
-#   accurate on this orbit.
+# * at equal work Verlet, to which the spline stepper is conjugate (Verlet
+#   on a modified force, in other variables), is the more accurate on this
+#   orbit.
 #
 # Why the report's rigid body has no such bounded energy error is in
 # notebook 03.  How each number was measured is at the end.

@@ -99,8 +99,8 @@ print(outputs.wrapped(
 # The steps grow out towards apoapsis and shrink again towards the closing
 # periapsis.  They dip where a velocity component passes through zero (the
 # error norm weighs each by its own size): to 0.56 at apoapsis, where $x'$
-# does, and to 0.049 near the ends of the minor axis, where $y'$ does, a
-# third of the steps around them.  The steps, with the estimate against the
+# does, and to 0.049 near the ends of the minor axis, where $y'$ does,
+# about a third of the size of the steps around them.  The steps, with the estimate against the
 # true local error:
 
 # %% jupyter={"source_hidden": true}

@@ -262,18 +262,18 @@ print(outputs.wrapped(
 exact_y, exact_yp = ellipse.reference(np.linspace(0.0, period_ellipse, 4001))
 threshold = {"y": check.ACCUMULATED_FRACTION * np.max(np.abs(exact_y)),
              "yp": check.ACCUMULATED_FRACTION * np.max(np.abs(exact_yp))}
-fig, ax = plt.subplots(figsize=(outputs.WIDTH, 3.6))
+fig, ax = plt.subplots(figsize=(outputs.WIDTH, 3.9))
 for method, g in growth.items():
     color = outputs.style_of(method)[0]
     ax.loglog(g.index, g.energy_error, "o-", color=color, markersize=4, label=method)
     ax.loglog(g.index, g.position_error, "x:", color=color, markersize=4)
 ax.axhline(threshold["y"], color="0.45", linestyle="--", linewidth=1,
-           label="check's threshold")
+           label="check's threshold in $y$, $0.3\\,\\max|y|$")
 ax.set_xlabel(f"orbit number (ellipse $\\mu = 0.6$; spline $h = {LONG_STEP:g}$)")
 ax.set_ylabel("largest error in the orbit")
 ax.set_title("10,000 orbits: $|H - H_0|$ (o, solid), position error (x, dotted)", loc="left")
-ax.set_ylim(1e-10, 1e4)
-ax.legend(loc="upper center", fontsize=outputs.MIN_FONT, ncol=4, handlelength=1.6,
+ax.set_ylim(1e-10, 1e6)   # room above the curves for the key
+ax.legend(loc="upper center", fontsize=outputs.MIN_FONT, ncol=2, handlelength=1.6,
           columnspacing=0.8)
 outputs.save_figure(fig, "composition-long")
 
