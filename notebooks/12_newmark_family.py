@@ -124,9 +124,17 @@ for name, group in curves.groupby("member", sort=False):
     axes[2].loglog(group.Omega, group.damping.where(group.damping > 1e-12), ls, color=color)
 axes[0].set_ylim(0.7, 1.6)
 axes[0].set_ylabel(r"spectral radius $\rho$")
+inset = axes[0].inset_axes([0.36, 0.5, 0.61, 0.45])   # the three limits, on a linear axis
+near = np.linspace(1.8, 3.7, 600)
+for name in NAMES:
+    inset.plot(near, family.spectral_radius(near, *coefficients(MEMBERS[name])), STYLE[name][1],
+               color=STYLE[name][0])
+inset.set(xlim=(1.8, 3.7), ylim=(0.95, 1.3), xticks=[2, 6 ** 0.5, 12 ** 0.5], yticks=[1.0, 1.2])
+inset.set_xticklabels(["2", "$\\sqrt{6}$", "$\\sqrt{12}$"], fontsize=outputs.MIN_FONT - 1)
+inset.tick_params(labelsize=outputs.MIN_FONT - 1)
 axes[1].set_ylabel(r"period error / $\Omega^2$: $(T_h/T - 1)/\Omega^2$")
 axes[2].set_ylabel(r"damping ratio $\xi_h$ (alpha members)")
-axes[1].set_ylim(-0.06, 0.16)
+axes[1].set_ylim(-0.1, 0.16)   # central difference's curve to its limit
 axes[1].set_xlim(0.01, 10)
 axes[2].set_ylim(1e-8, 1)
 for ax in axes:
@@ -136,7 +144,8 @@ fig.legend(loc="outside upper center", ncol=3, frameon=False,
 outputs.save_figure(fig, "family-spectra")
 
 # %% [markdown]
-# Left: the conditionally stable members leave $\rho = 1$ at their limits;
+# Left: the conditionally stable members leave $\rho = 1$ at their limits
+# (the inset, on a linear axis: 2, $\sqrt 6$ and $\sqrt{12}$);
 # the alpha members fall towards $\rho_\infty$ (generalized-alpha slowly,
 # like $\Omega^{-2/3}$).  Middle: the period error divided by $\Omega^2$,
 # so that each member's leading constant is its level at small $\Omega$:
