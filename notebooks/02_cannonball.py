@@ -32,7 +32,6 @@
 import sys
 
 import numpy as np
-import pandas as pd
 from IPython.display import HTML, display
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style

@@ -28,7 +28,6 @@ import sys
 import numpy as np
 import pandas as pd
 from IPython.display import HTML, display
-from scipy.integrate import solve_ivp
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
@@ -143,30 +142,12 @@ outputs.save_figure(fig, "convergence")
 problem = cases["cannonball mu=0.6"]
 t_report = np.arange(0.0, 50.0 + 1e-9, 0.08)
 exact, _ = problem.reference(t_report)
-rhs = problem.fun.py_func
-work = []
-for h in STEPS:
-    for label, kwargs in (("spline (converged)", {}), ("spline (1 sweep)", dict(iterations=1))):
-        res = problem.solve("spline", h=h, t_eval=t_report, **kwargs)
-        work.append(dict(method=label, setting=h, nfev=res.nfev,
-                         max_error=np.max(np.abs(res.y - exact))))
-    for label, method in (("Verlet", "verlet"), ("RK4", "rk4")):
-        res = problem.solve(method, h=h, t_eval=t_report)
-        work.append(dict(method=label, setting=h, nfev=res.nfev,
-                         max_error=np.max(np.abs(res.y - exact))))
-
-
-def first_order(t, u):
-    return np.concatenate([u[2:], rhs(t, u[:2], u[2:], *problem.args)])
-
-
-for method in ("RK45", "DOP853"):
-    for tol in 10.0 ** -np.arange(3, 13):
-        sol = solve_ivp(first_order, (0, 50), np.r_[problem.y0, problem.yp0], method=method,
-                        rtol=tol, atol=tol * 1e-2, t_eval=t_report)
-        work.append(dict(method=f"scipy {method}", setting=tol, nfev=sol.nfev,
-                         max_error=np.max(np.abs(sol.y[:2] - exact))))
-work = pd.DataFrame(work)
+work = pd.DataFrame(diagnostics.work_precision(problem, t_report, exact, STEPS, {
+    "spline (converged)": lambda h: problem.solve("spline", h=h, t_eval=t_report),
+    "spline (1 sweep)": lambda h: problem.solve("spline", h=h, t_eval=t_report, iterations=1),
+    "Verlet": lambda h: problem.solve("verlet", h=h, t_eval=t_report),
+    "RK4": lambda h: problem.solve("rk4", h=h, t_eval=t_report)},
+    10.0 ** -np.arange(3, 13), ("RK45", "DOP853")))
 outputs.save_data(work, "work-precision")
 
 # %% [markdown]

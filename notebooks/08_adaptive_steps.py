@@ -37,7 +37,6 @@ from IPython.display import HTML, display
 
 sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/ and plot style
 import outputs
-import splinestep
 from splinestep import problems
 from matplotlib.lines import Line2D
 from splinestep.analysis import adaptive, tolerance

@@ -33,6 +33,7 @@ import splinestep
 from splinestep import problems
 from splinestep import check
 from splinestep.analysis import composition, diagnostics, long_time
+from splinestep.analysis.extrapolation import richardson
 
 plt = outputs.setup()
 
@@ -111,8 +112,15 @@ print(f"the order-6 run at dt = 0.01: {7 * (round(50 / 0.01) - 2) + 2 * 25} sub-
 # RK4, and scipy's DOP853 at rtol $10^{-4} \dots 10^{-12}$ (atol = rtol/100).
 
 # %%
-work = composition.work_precision(ellipse, t_report, exact_report, (0.08, 0.04, 0.02, 0.01, 0.005),
-                                  10.0 ** -np.arange(4, 13))
+routes = {f"spline, order {order}": (lambda h, order=order: ellipse.solve(h=h, order=order,
+                                                                          t_eval=t_report))
+          for order in (2, 4, 6)}
+routes["Richardson (order 2 at h, h/2)"] = lambda h: richardson(
+    ellipse.fun, ellipse.t_span, ellipse.y0, ellipse.yp0, h, t_eval=t_report, args=ellipse.args)
+routes["RK4"] = lambda h: ellipse.solve("rk4", h=h, t_eval=t_report)
+work = pd.DataFrame(diagnostics.work_precision(
+    ellipse, t_report, exact_report, (0.08, 0.04, 0.02, 0.01, 0.005), routes,
+    10.0 ** -np.arange(4, 13), ("DOP853",)))
 outputs.save_data(work, "composition-work")
 
 # %% [markdown]

@@ -1,6 +1,7 @@
 """Measurements of the symmetric compositions of order 4 and 6 (notebook
-10): their fitted orders on problems with exact solutions, and the work
-each route to higher order spends for a given error.
+10): their fitted orders on problems with exact solutions, measured against
+the exact solution and from successive differences of the runs.  Their work
+against precision is :func:`splinestep.analysis.diagnostics.work_precision`.
 """
 
 import numpy as np
@@ -8,7 +9,6 @@ from . import require
 
 pd = require("pandas", __name__)
 
-from .extrapolation import richardson
 
 
 def orders(cases, steps, samples=137):
@@ -45,43 +45,4 @@ def orders(cases, steps, samples=137):
                              slope=np.polyfit(np.log(hs), np.log(errors), 1)[0],
                              successive_slope=np.log2(differences[-2] / differences[-1]),
                              largest_error=errors[0], smallest_error=errors[-1]))
-    return pd.DataFrame(rows)
-
-
-def work_precision(problem, t_eval, exact, steps, tolerances):
-    """Evaluations of F against the largest position error at ``t_eval``
-    (``exact``: the exact positions there) for the spline of orders 2, 4
-    and 6, Richardson extrapolation of order 2 (:func:`richardson`) and RK4
-    at each of ``steps``, and scipy's DOP853 at each of ``tolerances``
-    (rtol; atol = rtol / 100).
-
-    Returns
-    -------
-    pandas.DataFrame
-        One row per run: ``method``, ``setting`` (h or rtol), ``nfev``,
-        ``max_error``.
-    """
-    from scipy.integrate import solve_ivp
-    from ..problems import first_order
-    rows = []
-
-    def row(method, setting, nfev, y):
-        rows.append(dict(method=method, setting=setting, nfev=nfev,
-                         max_error=np.max(np.abs(y - exact))))
-
-    for h in steps:
-        for order in (2, 4, 6):
-            res = problem.solve(h=h, order=order, t_eval=t_eval)
-            row(f"spline, order {order}", h, res.nfev, res.y)
-        res = richardson(problem.fun, problem.t_span, problem.y0, problem.yp0, h,
-                         t_eval=t_eval, args=problem.args)
-        row("Richardson (order 2 at h, h/2)", h, res.nfev, res.y)
-        res = problem.solve("rk4", h=h, t_eval=t_eval)
-        row("RK4", h, res.nfev, res.y)
-    m = problem.y0.size
-    for tol in tolerances:
-        sol = solve_ivp(first_order(problem.fun, problem.args, m), problem.t_span,
-                        np.r_[problem.y0, problem.yp0], method="DOP853", rtol=tol,
-                        atol=tol * 1e-2, t_eval=t_eval)
-        row("scipy DOP853", tol, sol.nfev, sol.y[:m])
     return pd.DataFrame(rows)

@@ -91,6 +91,53 @@ def work_to_reach(nfev, error, target):
     return float("nan")
 
 
+def work_precision(problem, t_eval, exact, steps, runs, tolerances=(), scipy_methods=()):
+    """Evaluations of F against the largest position error at ``t_eval``
+    (``exact``: the exact positions there), for each fixed-step run at each
+    of ``steps`` and for scipy's adaptive codes at each of ``tolerances``.
+
+    Parameters
+    ----------
+    problem : splinestep.problems.Problem
+        Its ``fun``, ``args``, ``t_span``, ``y0`` and ``yp0`` set up scipy's
+        first-order system.
+    t_eval, exact : array_like
+        The times compared and the exact positions there, shape (m, k).
+    steps : sequence of float
+    runs : dict
+        {label: callable(h) returning an OdeResult with ``nfev`` and ``y``
+        at ``t_eval``}, run in that order at each step.
+    tolerances : sequence of float
+        rtol of scipy's runs (atol = rtol / 100).
+    scipy_methods : sequence of str
+        ``solve_ivp`` methods, labelled "scipy NAME".
+
+    Returns
+    -------
+    list of dict
+        One per run, in that order (each step's runs, then each scipy
+        method's tolerances): method, setting (h or rtol), nfev, max_error.
+    """
+    from scipy.integrate import solve_ivp
+    from ..problems import first_order
+    exact = np.asarray(exact)
+    rows = []
+    for h in steps:
+        for label, run in runs.items():
+            res = run(h)
+            rows.append(dict(method=label, setting=h, nfev=res.nfev,
+                             max_error=np.max(np.abs(res.y - exact))))
+    m = problem.y0.size
+    for method in scipy_methods:
+        for tol in tolerances:
+            sol = solve_ivp(first_order(problem.fun, problem.args, m), problem.t_span,
+                            np.r_[problem.y0, problem.yp0], method=method, rtol=tol,
+                            atol=tol * 1e-2, t_eval=t_eval)
+            rows.append(dict(method=f"scipy {method}", setting=tol, nfev=sol.nfev,
+                             max_error=np.max(np.abs(sol.y[:m] - exact))))
+    return rows
+
+
 def reach_table(curves, methods, targets):
     """For each method and target error, :func:`work_to_reach` on its
     curve, with the curve's fewest and most evaluations and the errors
