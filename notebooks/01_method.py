@@ -111,11 +111,11 @@ for x in np.geomspace(0.05, 3.4, 48):   # evenly spaced on the log axis below
                      estimated_local_error=res.local_error, step_flagged=bool(caught)))
 phase = pd.DataFrame(rows)
 outputs.save_data(phase, "method-phase-error")
+
+# %%
 period_deviation = np.max(np.abs(phase.period_ratio_measured / phase.period_ratio_theory - 1))
 spline_deviation = np.max(np.abs(phase.amplitude_factor_spline - 1))
 rk4_deviation = np.max(np.abs(phase.amplitude_factor_rk4 / phase.amplitude_factor_rk4_theory - 1))
-
-# %%
 assert period_deviation < 1e-12 and spline_deviation < 1e-12 and rk4_deviation < 1e-10
 print(f"period ratio, measured / closed form - 1, largest:   {outputs.rounding(period_deviation)}")
 print(f"spline amplitude factor - 1, largest:                {outputs.rounding(spline_deviation)}")

@@ -228,6 +228,11 @@ value = location.set_index("quantity").value
 for name, (closed, tolerance) in error_location.closed_form_ratios(0.6).items():
     print(f"{name}: sampled {value[name]:.3f}, closed form {closed:.3f}")
     assert abs(value[name] / closed - 1) < tolerance, name
+
+# %% [markdown]
+# The orbit's geometry, and where along it the errors are made:
+
+# %%
 elements = problems.orbit_elements(0.6)
 e = elements["eccentricity"]
 r_peri, r_apo = elements["a"] * (1 - e), elements["a"] * (1 + e)

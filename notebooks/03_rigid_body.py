@@ -155,6 +155,11 @@ for case in CASES:
     rows.append(pd.DataFrame(data))
 errors = pd.concat(rows, ignore_index=True)
 outputs.save_data(errors.iloc[::5], "rigid-body-energy-error")
+
+# %% [markdown]
+# The largest of each over the run, and what a step costs the spline:
+
+# %%
 summary = errors.groupby("case").max().drop(columns="t").reset_index()
 summary["spline_evaluations_per_step"] = [runs[c]["spline"].nfev / runs[c]["spline"].nstep
                                           for c in summary.case]
@@ -217,6 +222,12 @@ consistent = problems.rigid_body("consistent")
 long_problem = dataclasses.replace(consistent, t_span=(0.0, 800.0))
 long_runs = {m: long_problem.solve(m) for m in ("spline", "rk4")}
 energy = consistent.invariants["energy"]
+
+# %% [markdown]
+# For each method: the energy error at $t = 80$ and at $t = 800$, its
+# largest value in each eighth of the run, and the growth ratio.
+
+# %%
 drift = []
 for method, res in long_runs.items():
     assert res.success, res.message
@@ -231,6 +242,11 @@ for method, res in long_runs.items():
         f"at t = 800: {e[-1]:.2e}; largest in each eighth of the run: "
         + ", ".join(f"{m:.1e}" for m in maxima)
         + f"; growth ratio {drift[-1]['growth_ratio']:.1f}"))
+
+# %% [markdown]
+# The drift fitted over the whole run:
+
+# %%
 drift = pd.DataFrame(drift)
 outputs.save_data(drift, "rigid-body-energy-drift")
 spline_drift = drift.set_index("method").loc["spline"]
@@ -268,6 +284,13 @@ print("sum I_i w_i G_i(w) =", sp.simplify(sum(moments[i] * w[i] * G[i] for i in 
 f_sym = sp.Matrix(euler_top.rigid_body_rhs.py_func(0, w, (0, 0, 0), *moments, 0.0))
 J = f_sym.jacobian(w)
 print("df1/dw2 - df2/dw1 =", sp.factor(J[0, 1] - J[1, 0]))
+
+# %% [markdown]
+# Then the bookkeeping along the long run: the change of the energy
+# against the integral of $\sum_i I_i\omega_i\delta_i$, the growth of
+# $\delta$, and the mean of its component along $I\omega$.
+
+# %%
 long_body = long_runs["spline"]   # the consistent case over t in [0, 800], above
 delta = long_body.yp - euler_top.euler_rates(long_body.y, moments)
 inertia = np.asarray(moments)[:, None]

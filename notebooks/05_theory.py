@@ -314,7 +314,7 @@ for power, colour in ((4, "C0"), (6, "C1")):
     term = abs(series3.coeff(x, power)) * x ** power
     ax.loglog(fine, sp.lambdify(x, term)(fine), ":", color=colour, linewidth=1.2,
               label=f"${sp.latex(term, fold_short_frac=True)}$")
-ax.set_ylim(3e-13, 1e7)  # room for the key above the points
+ax.set_ylim(3e-13, 10)
 ax.set_ylabel("|measured $-$ derived| of $T_h/T - 1$")
 ax.set_title("Period error: measured $-$ derived", loc="left")
 fine = np.geomspace(0.1, 20.0, 400)
@@ -333,8 +333,9 @@ for axis, ticks in ((ax, [0.05, 0.1, 0.2, 0.5, 1, 2, 3]),
     axis.set_xlabel("$\\omega h$ (step $\\times$ angular frequency)")
     axis.set_xticks(ticks, [f"{t:g}" for t in ticks])
     axis.xaxis.set_minor_formatter(plt.NullFormatter())
-ax.legend(loc="upper left", fontsize="small")  # above the points
-bx.legend(loc="center left", bbox_to_anchor=(0, 0.6))  # above the points, left of the curve
+fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncol=4,
+           fontsize=outputs.MIN_FONT, frameon=False, columnspacing=1.2)   # the left panel's
+bx.legend(loc="upper left", fontsize=outputs.MIN_FONT)  # above the points, left of the curve
 outputs.save_figure(fig, "theory-oscillator")
 
 # %% [markdown]

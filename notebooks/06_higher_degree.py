@@ -191,7 +191,7 @@ print(f"  parasitic root: exp({parasitic_rate:.4f} t)")
 # the undamped oscillator and degree 4 on the damped one:
 
 # %% jupyter={"source_hidden": true}
-fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0))
+fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.6))
 for k, style in ((3, "C0-"), (4, "C1-"), (5, "C3-"), (6, "C4-")):
     e = degree_runs[k][1]
     keep = (e > 0) & (e < 1e6)
@@ -203,11 +203,12 @@ ax.semilogy(n, 1e-16 * (2 + np.sqrt(3)) ** n, "k:", linewidth=1,
             label="spurious roots: $3.73^n$, $9.90^n$")
 ax.semilogy(n, 1e-16 * (5 + 2 * np.sqrt(6)) ** n, "k:", linewidth=1)
 ax.set_xlim(1, 600)
-ax.set_ylim(1e-21, 1e6)   # room below the curves for the key
+ax.set_ylim(1e-17, 1e6)
 ax.set_xlabel("step number $n$ ($h = 0.05$)")
 ax.set_ylabel("$|y_n - \\cos t_n|$")
 ax.set_title("Degree-$k$ splines ($k - 1$ continuous derivatives) on $y'' = -y$", loc="left")
-ax.legend(loc="lower right", ncol=3, fontsize=outputs.MIN_FONT, columnspacing=1.0)
+ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.3), ncol=5, fontsize=outputs.MIN_FONT,
+          columnspacing=1.0, frameon=False)   # below the axis, off the curves
 bx.semilogy(damped.t, damped_error, "C1-", label="degree 4, error")
 bx.semilogy(damped.t, np.abs(exact_damped), "k-", linewidth=1, label="the solution $|y|$")
 start = damped.t[late][0]
@@ -216,8 +217,8 @@ bx.semilogy(damped.t, damped_error[late][0] * np.exp(parasitic_rate * (damped.t 
 bx.set_xlabel("$t$")
 bx.set_ylabel("error $|y_n - y(t_n)|$, and $|y|$")
 bx.set_title("Degree 4 on the damped $y'' = -y - c\\,y'$, $c = 0.5$ ($h = 0.05$)")
-bx.set_ylim(top=1e5)  # room for the key above the curves
-bx.legend(loc="upper center", bbox_to_anchor=(0.62, 1.0), ncols=2)
+bx.legend(loc="upper center", bbox_to_anchor=(0.5, -0.3), ncol=3, fontsize=outputs.MIN_FONT,
+          frameon=False)   # below the axis, off the curves
 outputs.save_figure(fig, "higher-degree-splines")
 
 # %% [markdown]

@@ -20,12 +20,11 @@
 #   sweep per step on both sides).  On four milder problems they cost from
 #   0.57 to 5.06 times the uniform step's evaluations, and against a
 #   uniform step with one sweep they lose on all four.
-# * **Over long runs error-controlled knots lose the bounded energy error**
-#   of a fixed step; time-reversible steps (Hairer and Soderlind) keep it
-#   at the same cost per orbit.
 #
-# Notebook 10 builds the higher orders, notebook 09 the single sweep and
-# the boundary value problems it makes possible.  How the comparisons were
+# Over long runs error-controlled knots lose the bounded energy error of a
+# fixed step: notebook 07 measures it, with time-reversible steps that keep
+# it.  Notebook 10 builds the higher orders, notebook 09 the single sweep
+# and the boundary value problems it makes possible.  How the comparisons were
 # matched and checked is at the end.
 
 # %%
@@ -298,84 +297,6 @@ display(HTML(outputs.html_table(graded_table.rename(columns=lambda a: f"a = {a:.
 # that bounds each step's error gives $a = 1/3$, but then its global error
 # follows rtol$^{2/3}$; this one keeps the proportionality and leaves that
 # factor.
-
-# %% [markdown]
-# ## The long-time picture of variable steps
-# A fixed step keeps the energy error bounded (notebook 07).  Adaptive knots
-# lose it, since the step sizes depend on an error estimate that is not
-# symmetric in time.
-#
-# Hairer and Soderlind (2005) restore it: the step is $\varepsilon/\rho$,
-# with the control variable $\rho$ updated by a leapfrog recursion
-# $\rho_{n+1/2} = \rho_{n-1/2} + \varepsilon G(y_n)$,
-# $G = -\tfrac{d}{dt}\ln s$ for a step-size function $s$ (the steps are
-# proportional to $s$, their density to $1/s$).  Here $s = r^{3/2}$ and
-# $G = -\tfrac32\, q\cdot q'/|q|^2$ (`splinestep.solve_reversible`, with the
-# compiled `problems.step_size_control`).  Step and recursion are
-# symmetric, so the whole method is.
-#
-# We run 300 orbits of the $e = 0.9$ orbit three ways: error-controlled knots
-# at rtol 0.1, and reversible steps at $\varepsilon = 10^{-2}$ and at the
-# $\varepsilon$ that spends the same evaluations per orbit as the
-# error-controlled run, taking in each orbit the largest energy error over
-# the method's own knots.
-
-# %%
-ORBITS = 300
-long_orbit = problems.eccentric(0.9, orbits=ORBITS)
-EPS, EPS_EQUAL_WORK = 1e-2, 3.35e-3
-long_runs, by_orbit, long_table = adaptive.variable_step_runs(
-    long_orbit, ORBITS, period, 0.1, 1e-4, (EPS, EPS_EQUAL_WORK), problems.step_size_control)
-outputs.save_data(long_table, "variable-step-energy")
-
-# %%
-errors = {label: g.energy_error.to_numpy() for label, g in long_table.groupby("method", sort=False)}
-controlled = errors["adaptive knots, rtol 0.1"]
-for label, res in long_runs.items():
-    e = errors[label]
-    above = adaptive.first_orbit_above(controlled, e)
-    print(outputs.wrapped(
-        f"{label}: {res.nfev / ORBITS:.0f} evaluations per orbit; largest energy error per "
-        f"orbit: first {outputs.plain(e[0])}, last 30 {outputs.plain(e[-30:].max())}"
-        + (f"; error-controlled run above it from orbit {above}" if above else "")))
-# Where the error-controlled run's H - H0 takes both signs within an orbit:
-changing = adaptive.orbits_changing_sign(by_orbit["adaptive knots, rtol 0.1"])
-print(f"adaptive knots: H - H0 takes both signs within orbits {' and '.join(changing) or 'none'}")
-
-# %% [markdown]
-# At equal work the reversible steps win from the fifth orbit on.  At
-# $\varepsilon = 0.00335$ they spend 6806 evaluations per orbit, against the
-# error-controlled run's 6819, and keep the largest energy error of every
-# orbit at $3.9 \times 10^{-6}$.  The error-controlled knots start below it
-# ($3.2 \times 10^{-6}$ in the first orbit), pass it at orbit 5 and reach
-# $6.4 \times 10^{-5}$ in the last 30 orbits.  Their $H - H_0$ keeps one
-# sign in every orbit: it drifts.
-#
-# At $\varepsilon = 10^{-2}$ the reversible steps spend 2507 evaluations per
-# orbit.  Their error, $3.5 \times 10^{-5}$ in every orbit, stays above the
-# error-controlled run's until orbit 161.
-
-# %% jupyter={"source_hidden": true}
-fig, ax = plt.subplots(figsize=(outputs.WIDTH, 3.6))
-styles = {"adaptive knots, rtol 0.1": ("C3", "-", 1.0),
-          f"reversible steps, eps {EPS:g}": ("C0", "--", 1.5),
-          f"reversible steps, eps {EPS_EQUAL_WORK:g}": ("C0", "-", 1.5)}
-for label, res in long_runs.items():
-    color, dash, width = styles[label]
-    ax.loglog(np.arange(1, ORBITS + 1), errors[label], color=color, linestyle=dash,
-              linewidth=width, label=label.replace(", eps ", ", $\\varepsilon$ = ")
-              + f" ({res.nfev / ORBITS:.0f} evaluations per orbit)")
-ax.set_xlabel("orbit number")
-ax.set_ylabel("largest $|H - H_0|$ in the orbit")
-ax.set_title("Variable steps over 300 orbits of the Kepler orbit $e = 0.9$")
-fig.legend(loc="outside lower center", fontsize=outputs.MIN_FONT, frameon=False)
-outputs.save_figure(fig, "variable-step-energy")
-
-# %% [markdown]
-# On this orbit, for a long run, the reversible steps are the adaptive
-# method to use: bounded energy error at the same cost per orbit.  The price
-# is choosing the step-size function $s$ by hand, and the measurement is one
-# problem.
 
 # %% [markdown]
 # ## How this was measured

@@ -75,10 +75,21 @@ at_report_step = {order: np.max(np.abs(ellipse.solve(order=order, t_eval=t_repor
                                        - exact_report)) for order in (2, 4, 6)}
 for order, error in at_report_step.items():
     print(f"ellipse, dt = 0.01, order {order}: max position error {error:.1e}")
-# Second way for order 4, without the exact solution: (y_h - y_{h/2}) 16/15.
+
+# %% [markdown]
+# A second way for order 4, without the exact solution: the difference
+# from a run at half the step, times 16/15.
+
+# %%
 half_step_4 = ellipse.solve(h=0.005, order=4, t_eval=t_report).y
 richardson_4 = np.max(np.abs(ellipse.solve(order=4, t_eval=t_report).y - half_step_4)) * 16 / 15
 print(f"order 4 at dt = 0.01 from the run at dt = 0.005 (no exact solution): {richardson_4:.1e}")
+
+# %% [markdown]
+# Is order 6's error at this step in the asymptotic range?  Halving the
+# step, and solving each step equation more tightly, tell.
+
+# %%
 order6_floor = {(h, tol): np.max(np.abs(ellipse.solve(h=h, order=6, t_eval=t_report, tol=tol).y
                                         - exact_report))
                 for h, tol in ((0.02, 1e-12), (0.01, 1e-15))}
@@ -193,6 +204,12 @@ for order in (2, 4):
                                t_eval=long_time.at_steps(wanted, LONG_STEP))
     long_runs[f"spline, order {order}"] = res
     check_sums[order] = long_time.accumulated_estimate(res)   # the check's sums, for the end
+
+# %% [markdown]
+# RK4 at the same work: its step is chosen so that it spends the order-4
+# composition's evaluations.
+
+# %%
 rk4_step = 4 * LONG_STEP / (long_runs["spline, order 4"].nfev / (t_long / LONG_STEP))
 long_runs["RK4, same work"] = splinestep.rk4(
     ellipse.fun, (0.0, t_long), ellipse.y0, ellipse.yp0, rk4_step, args=ellipse.args,
@@ -213,6 +230,13 @@ for method, res in long_runs.items():
                                             for k, v in windowed.items()})))
 long_energy = pd.concat(long_energy, ignore_index=True)
 outputs.save_data(long_energy, "composition-energy")
+
+# %% [markdown]
+# For each run: the evaluations per orbit, the energy and position errors
+# in the first and the last orbits, and the energy error's growth
+# exponent.
+
+# %%
 growth = {m: g.set_index("orbit") for m, g in long_energy.groupby("method", sort=False)}
 for method, g in growth.items():
     tail = g[g.index >= 10]
@@ -244,6 +268,11 @@ print(outputs.wrapped(
     f"exceeds the order-4 composition's largest ({outputs.plain(level_4, 3)}) from orbit "
     f"{outputs.round_sig(crossing_sampled, 3):.0f} (sampled curve) or "
     f"{outputs.round_sig(crossing_fitted, 3):.0f} (fitted line)"))
+
+# %% [markdown]
+# The energy levels side by side, and the position errors:
+
+# %%
 position_ratio = (rk4_long.position_error / growth["spline, order 4"].position_error)
 print(outputs.wrapped(
     f"energy level: order 2 / order 4 "
@@ -321,6 +350,11 @@ for order, found in check_sums.items():
     print(outputs.wrapped(f"order {order}: " + ("the sum not flagged" if found is None else
           f"flagged; estimates summed over the run {found['sum_y']:g} in y, {found['sum_yp']:g} "
           f"in y' (max |y| = {found['y_scale']:g}, max |y'| = {found['yp_scale']:g})")))
+
+# %% [markdown]
+# The threshold, and where each run's error passes it:
+
+# %%
 print(f"threshold: {threshold['y']:.2f} in y, {threshold['yp']:.2f} in y'")
 for method, res in long_runs.items():
     y_ref, yp_ref = ellipse.reference(res.t)

@@ -209,6 +209,12 @@ print(outputs.wrapped(
     f"kept matrix rebuilt when an update is more than {step.SLOW_RATE} times the one before, "
     f"or the step differs by more than {step.STEP_CHANGE:.0%} from the matrix's; "
     f"m = {pleiades.y0.size} components"))
+
+# %% [markdown]
+# Each way of solving the step equation, on a uniform and on an adaptive
+# run:
+
+# %%
 newton_rows = []
 for run_label, settings in (("uniform h = 0.0001", dict(h=1e-4)),
                             ("adaptive rtol = 1e-06", dict(h="adaptive", rtol=1e-6, atol=1e-6))):
@@ -222,6 +228,11 @@ for run_label, settings in (("uniform h = 0.0001", dict(h=1e-4)),
                                 njev=res.njev, nstep=res.nstep, niter=res.niter,
                                 error=np.max(np.abs(res.y[:, -1] - exact_3[:, 0])),
                                 flagged=len(caught) > 0))
+
+# %% [markdown]
+# Per step: the evaluations, the iterations, and the error at $t = 3$.
+
+# %%
 newton_table = pd.DataFrame(newton_rows)
 outputs.save_data(newton_table, "newton-reuse")
 display(HTML(outputs.html_table(pd.DataFrame({
@@ -277,6 +288,11 @@ print(outputs.wrapped(
     f"{len(alarm_table)} runs, {int((alarm_table.status == 0).sum())} reaching the end: "
     f"{false_alarms} false alarms among the {accurate} accurate runs, {misses} misses among "
     f"the {inaccurate} inaccurate ones"))
+
+# %% [markdown]
+# The runs on the chain, and every false alarm or miss:
+
+# %%
 verdicts = alarms.verdicts(alarm_table.to_dict("records"))
 shown = alarm_table.assign(verdict=verdicts)[lambda t: t.problem.str.startswith("chain")
                                             | t.verdict.isin(["false alarm", "miss"])]

@@ -87,3 +87,14 @@ display(HTML(claims.table_html(claims.with_links(errata, **links), raw=("where",
 # %%
 headline = claims.headline_numbers(measured)
 outputs.save_data(headline, "headline-numbers")
+
+# %% [markdown]
+# ## Where to read on
+#
+# * The paper, `paper/splinestep.pdf`, states these verdicts with the
+#   figures that support them, and Table 3 holds the measurements.
+# * The user guide, `website/guide.md`, solves equations of your own with
+#   the package: fixed and adaptive steps, events, boundary value problems
+#   and Newmark's family.
+# * Each verdict's notebook is linked from its row above; `make reproduce`
+#   reruns every one of them and rebuilds these tables.

@@ -152,7 +152,6 @@ COLUMNS = {
     # Phase drift per orbit over 200 orbits, two ways; errors of a fixed-step run.
     "phase-drift": dict(drift_from_angle="error", drift_from_passages="error",
                         period_error="error", precession_per_orbit="error"),
-    "spline-verlet-work": dict(dt="exact", nfev="exact", max_error="error"),
     "theory-constants": dict(derived="exact", measured="error"),
     "higher-degree-constants": dict(derived="exact", measured="error"),
     "rigid-body-energy-drift": dict(method="exact", energy_error_t80="error",

@@ -1,6 +1,7 @@
-"""Measurements of adaptive knots (notebook 08): the true local error of
-each step and the energy error orbit by orbit.  Their cost against uniform
-steps is measured in :mod:`splinestep.analysis.tolerance`.
+"""Measurements of adaptive knots: the true local error of each step
+(notebook 08) and, over long runs, the energy error orbit by orbit
+(notebook 07).  Their cost against uniform steps is measured in
+:mod:`splinestep.analysis.tolerance`.
 """
 
 import numpy as np
