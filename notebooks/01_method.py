@@ -123,6 +123,9 @@ print(f"RK4 amplitude factor, measured / closed form - 1, largest: "
       f"{outputs.rounding(rk4_deviation)}")
 print(f"RK4 amplitude factor from {phase.amplitude_factor_rk4.min():.4f} "
       f"to {phase.amplitude_factor_rk4.max():.4f}")
+peak = phase.loc[phase.period_ratio_measured.idxmax()]
+print(f"period error largest, {peak.period_ratio_measured - 1:.2f}, at omega h = "
+      f"{peak.omega_h:.2f}; at sqrt(12), sqrt(12)/pi - 1 = {np.sqrt(12) / np.pi - 1:.3f}")
 flagged = phase[phase.step_flagged]
 print(outputs.wrapped(
     f"runs warned 'step too large': {len(flagged)} of {len(phase)}, "
@@ -184,7 +187,11 @@ outputs.save_figure(fig, "method-phase-error")
 # spline's amplitude factor is 1 at every sampled $\omega h$ (all below the
 # stability limit $\sqrt{12}$), and the same
 # metric finds RK4's damping (below $2\sqrt2 \approx 2.83$) and growth
-# (above) where its closed form puts them.  This explains what the report
+# (above) where its closed form puts them.  The period error grows like
+# $x^2/24$ until near the limit, where it turns down: it is largest, 0.20,
+# at $\omega h = 3.11$, and as $\omega h \to \sqrt{12}$ the step's angle
+# $\Omega h$ tends to $\pi$ (two steps per numerical period), so that
+# $T_h/T - 1 = \omega h/(\Omega h) - 1$ tends to $\sqrt{12}/\pi - 1 = 0.103$.  This explains what the report
 # found:
 #
 # * **second order** (Fig. 3): the local error of the linear-acceleration

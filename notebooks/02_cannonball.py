@@ -13,7 +13,9 @@
 # (eq. 13 as printed omits $\mu$) and $M = x\dot y - y\dot x$ (eq. 14).
 # The reference is the exact solution (universal-variable Kepler equation,
 # checked in the tests against the classical Kepler, Barker and hyperbolic
-# equations).  What we find:
+# equations).  The report does not say which panel of its Figs. 1 and 2
+# is which; in the order of its Sec. 3, the cannonball's are presumably
+# 1a and 2a.  What we find:
 #
 # * **Both methods follow all four orbits** at the scale of the report's
 #   Fig. 1a.

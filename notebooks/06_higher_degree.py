@@ -164,9 +164,9 @@ print(f"the same, y'(0) raised by h^2 y'''(0) / 12: error {offset_error:.1e}")
 # $3.2 \times 10^{-3}$, about the cubic's.  The wrong start does two
 # things.  It excites the parasitic mode, which never decays but costs
 # almost nothing in position here; and it shifts the velocity of the
-# principal solution by $-h^2 y'''(0)/12$ (the knots' velocities alternate
-# about that mean), from which the orbit drifts smoothly, an error of
-# order 2.  Started with $y'(0)$ raised by $h^2 y'''(0)/12$ (and the same
+# principal solution by $-h^2 y'''(0)/12$ (to leading order, from the
+# analysis of the two modes), from which the orbit drifts smoothly, an
+# error of order 2.  Started with $y'(0)$ raised by $h^2 y'''(0)/12$ (and the same
 # wrong $y'''(0)$), the error falls to $9.6 \times 10^{-9}$: the shift, not
 # the parasitic mode, is the error.  Last, degree 4 on the damped
 # oscillator $y'' = -y - c\, y'$ with $c = 0.5$, from its exact

@@ -176,20 +176,13 @@ outputs.save_figure(fig, "long-time-invariants")
 # with one sweep: 4,200); its errors, given to their decade, drift with
 # exponent 0.9.
 #
-# How far each drift goes, from the lines fitted to the errors:
+# How far RK4's drift goes, from the line fitted to its errors:
 
 # %%
 d = drift.set_index("method")
 rk4 = d.loc["RK4, same work"]
 rk4_crossing = 1 + (d.loc["spline", "final_energy_error"] - rk4.energy_error_start) / (
     rk4.energy_drift_per_orbit)
-
-# %% [markdown]
-# The spline with one sweep per step instead of a solved step equation:
-
-# %%
-sweep_row = d.loc["spline, 1 sweep"]
-sweep_first = long_time[long_time.method == "spline, 1 sweep"].energy_error.iloc[0]
 print(outputs.wrapped(
     f"RK4, same work: energy error {rk4.energy_error_start:.3e} "
     f"+ {rk4.energy_drift_per_orbit:.2e} (orbit - 1); fitted exponent "
@@ -198,6 +191,13 @@ print(outputs.wrapped(
     f"{d.loc['spline', 'final_energy_error']:.1e} near orbit "
     f"{outputs.round_sig(rk4_crossing, 2):,.0f}, "
     f"{outputs.round_sig(rk4_crossing / ORBITS, 1):.0f} times past the run"))
+
+# %% [markdown]
+# And the spline with one sweep per step instead of a solved step equation:
+
+# %%
+sweep_row = d.loc["spline, 1 sweep"]
+sweep_first = long_time[long_time.method == "spline, 1 sweep"].energy_error.iloc[0]
 print(outputs.wrapped(
     f"spline, 1 sweep: energy error {sweep_first:.1e} in the first orbit, "
     f"{sweep_row.final_energy_error:.1e} in the last; exponent "
@@ -296,8 +296,13 @@ print(outputs.wrapped(
 
 # %% [markdown]
 # ## Variable steps over long times
-# A fixed step keeps the energy error bounded (above).  Error-controlled
-# knots (notebook 08) lose it, since the step sizes depend on an error
+# A fixed step keeps the energy error bounded (above).  A problem whose
+# time scale varies along the solution wants variable steps instead.  The
+# usual way chooses them by error control: each step is sized so that an
+# estimate of its local error (for the spline, from the jump of its third
+# derivative at a knot) meets a tolerance rtol; notebook 08 builds and
+# measures these error-controlled knots.  Over long runs they lose the
+# bounded energy error, since the step sizes then depend on an error
 # estimate that is not symmetric in time.
 #
 # Hairer and Soderlind (2005) restore it: the step is $\varepsilon/\rho$,

@@ -10,10 +10,11 @@
 # * **The spline estimates its own error**: the jump of its third
 #   derivative at a knot gives each step's local error to a few per cent
 #   (median ratio 1.00 on an eccentric Kepler orbit).
-# * **rtol bounds the final error of $y$**, in proportion, on five
-#   problems (at most 0.66 times rtol times the solution's scale), because
-#   the controller bounds the error per unit step; it does not bound the
-#   error of $y'$ (up to 6.62 times).
+# * **rtol bounds the final error of $y$** on five problems (at most 0.66
+#   times rtol times the solution's scale), and the error follows rtol
+#   roughly in proportion (slopes 0.90 to 1.28), because the controller
+#   bounds the error per unit step; it does not bound the error of $y'$
+#   (up to 6.62 times).
 # * **Adaptive knots pay where the solution's time scale varies**: on the
 #   Kepler orbit of eccentricity 0.9 the uniform step needs 28 to 37 times
 #   their evaluations for the same final error (47 to 49 times with one
@@ -148,7 +149,9 @@ display(HTML(outputs.html_table(bounds.map(lambda v: f"{v:.2f}" if abs(v) >= 0.0
 # %% [markdown]
 # On all five problems the final error of $y$ stays below rtol times the
 # solution's scale (at most 0.66 times, on the Kepler orbit) and falls with
-# rtol at slopes 0.90 to 1.28: rtol bounds the error of $y$, in proportion.
+# rtol at slopes 0.90 to 1.28 (a slope of 1 would be exact proportion):
+# rtol bounds the error of $y$, and the error follows rtol roughly in
+# proportion.
 # The scale is the largest $|y|$ over the span; on the Kepler orbit that is
 # the far end of the orbit, so near periapsis the error relative to $|y|$
 # there is larger.
@@ -206,9 +209,10 @@ shown = cost_table[["spline / uniform, iterated", "spline / uniform, 1 sweep",
 display(HTML(outputs.html_table(shown.rename_axis("problem").reset_index())))
 
 # %% [markdown]
-# Both iterated (the first column), the knots save 28 to 37 times on the
-# Kepler orbit (cost 0.027 to 0.036; "4 of 6": the uniform runs reach the
-# errors of four of its six tolerances).  On the four milder problems they
+# Both iterated (the first column), the knots cost 0.027 to 0.036 times
+# the uniform evaluations on the Kepler orbit: they save 28 to 37 times.
+# ("4 of 6": the uniform runs reach the errors of four of its six
+# tolerances.)  On the four milder problems they
 # cost 0.57 to 5.06 times the uniform evaluations: 0.57 to 1.06 on the
 # oscillator, 0.78 to 1.07 on the forced Duffing oscillator, 1.21 to 5.06
 # on the pendulum, 1.07 to 1.14 on the rational problem.  Against a

@@ -10,7 +10,7 @@
 # * **All knots at once give the stepwise solution** (to
 #   $7 \times 10^{-13}$, in 2 to 3 Newton iterations) but spend 1.33 to 7.40
 #   times its evaluations of $F$ and factorise the whole trajectory's
-#   matrix at each iteration: on one processor it does not pay.
+#   matrix at each iteration: it costs more than stepping.
 # * **Its natural use is boundary value problems**: `splinestep.solve_bvp`
 #   finds both solutions of the Bratu problem and converges at second
 #   order; scipy's fourth-order `solve_bvp` is far more accurate per node.
@@ -100,8 +100,9 @@ display(HTML(outputs.html_table(shown)))
 # it factorises the sparse matrix of the whole trajectory at every
 # iteration.
 #
-# On one processor it does not pay (the Speed page of the website,
-# `website/speed.md`, times it against the stepwise Newton).  It would need
+# So it costs more than stepping (the Speed page of the website,
+# `website/speed.md`, also times it against the stepwise Newton).  To pay
+# on several processors it would need
 # the structure of parallel-in-time methods: the knots' evaluations and the
 # factorisation split over processors, as in parareal and
 # multigrid-reduction-in-time, with a cheap coarse propagator for the

@@ -17,7 +17,9 @@
 #   position until both have lost the phase;
 # * **at equal work** order 4 beats Richardson extrapolation of the
 #   report's method (1.3 to 1.5 times fewer evaluations) but not RK4 (0.21
-#   to 0.28) or DOP853.
+#   to 0.28) or DOP853;
+# * **the step-size check flags both long runs rightly, but late** for the
+#   report's method and early for the composition (the last section).
 
 # %%
 import sys
@@ -100,8 +102,6 @@ print(outputs.wrapped(
     f"{order6_floor[(0.02, 1e-12)] / at_report_step[6]:.0f} (order 6: 64); at dt = 0.01 the "
     f"error with the step equation solved to 1e-15 over that with the default 1e-12: "
     f"{tighter:.0f}"))
-print(f"the order-6 run at dt = 0.01: {7 * (round(50 / 0.01) - 2) + 2 * 25} sub-steps "
-      f"(seven per step, Suzuki's 25 in the first and the last)")
 
 # %% [markdown]
 # Order 4 fits slopes 3.98 to 4.00 on the four cannonball orbits and the
@@ -112,8 +112,8 @@ print(f"the order-6 run at dt = 0.01: {7 * (round(50 / 0.01) - 2) + 2 * 25} sub-
 # $1.8 \times 10^{-7}$ and $1.4 \times 10^{-12}$.  The order-6 value is at
 # a floor, not in the asymptotic range: halving the step from 0.02 divides
 # the error by only 8, and solving each step equation a thousand times more
-# tightly does not lower it either.  It measures a floor of the run (35036
-# sub-steps), not the order.
+# tightly does not lower it either.  It measures a floor of the run (seven
+# implicit sub-steps in each of its steps), not the order.
 
 # %% [markdown]
 # ### The cost against the other routes
@@ -187,7 +187,7 @@ outputs.save_figure(fig, "composition-work")
 # whole orbits at logarithmically spaced orbit numbers, at 64 of its own
 # steps per sampled orbit.  (Both spline runs end flagged by their
 # step-size check, and both end past its threshold: the check's verdict is
-# examined at the end.)
+# examined in the last section.)
 
 # %%
 period_ellipse = problems.orbit_elements(0.6)["period"]
@@ -332,7 +332,7 @@ outputs.save_figure(fig, "composition-long")
 # orbits, in runs long enough that the step-size check flags them.
 
 # %% [markdown]
-# ## How this was measured: the step-size check on the long runs
+# ## The step-size check on the long runs: a true alarm, not a sharp one
 #
 # Each spline run ends with its step-size check (`splinestep.check`),
 # which sums the local errors it estimates at every step.  Both long runs
