@@ -68,8 +68,9 @@ print(f"-(h omega)^2 / 6 = {-factor:.4f}; the distance shrinks by a factor of {s
 # Newton's method on each step's equation (`iteration="newton"`, an option
 # of this package) removes that limit.  It is not what the report suggests:
 # the report's Sec. 5 proposes to obtain "the coefficients at all points in a
-# single sweep" with Newton's method and an LU decomposition, one solve over
-# all knots at once.
+# single sweep or set of iterations" with Newton's method and an LU
+# decomposition, which we read as one solve over all knots at once
+# (notebook 09).
 #
 # ## Stability and period error on $y'' = -\omega^2 y$
 # For the oscillator, one step maps $(y_i, y'_i)$ by a fixed matrix whose

@@ -86,25 +86,14 @@ print(f"spline, first orbit: largest position error {outputs.plain(spline_first)
       f"{outputs.round_sig(1 / dop_ratio, 2):.0f} times smaller")
 
 # %% [markdown]
-# What each run costs, in evaluations of $F$ per orbit (the figure's key):
+# Each run's largest errors in energy and angular momentum over each
+# sampled orbit, and for the spline also those of the modified invariants
+# of notebook 05 (the figure's key gives each run's evaluations of $F$ per
+# orbit):
 
 # %%
 evaluations_per_orbit = {label: res.nfev / ORBITS for label, res in long_runs.items()}
 evaluations_per_orbit[dop_label] = dop.nfev / DOP_ORBITS
-cost_shown = {m: long_time_analysis.reproducible_round(
-                  v, long_time_analysis.ADAPTIVE_SPREAD if m == dop_label else 0.0)
-              for m, v in evaluations_per_orbit.items()}
-print(outputs.wrapped("evaluations per orbit: " + "; ".join(
-    f"{m} {v:,.0f}" for m, v in cost_shown.items())))
-
-# %% [markdown]
-# For each run, a power law error $\sim$ orbit$^b$ fitted to the largest
-# error of each sampled orbit from orbit 100 on: $b = 0$ is a bounded
-# error, $b = 1$ a linear drift.  For the spline, also the modified
-# invariants of notebook 05:
-
-# %%
-GROWTH_FROM = 100
 long_time = pd.concat(
     [long_time_analysis.invariants_per_orbit(label, res.t, res.y, res.yp, ellipse.y0, ellipse.yp0,
                                              mu, period_T, windows,
@@ -114,19 +103,10 @@ long_time = pd.concat(
                                                ellipse.yp0, mu, period_T, windows)],
     ignore_index=True)
 outputs.save_data(long_time, "long-time-invariants")
-drift = long_time_analysis.drift_table(long_time, evaluations_per_orbit, GROWTH_FROM)
-outputs.save_data(drift, "long-time-drift")
-
-# %% [markdown]
-# The largest errors in the spline's modified invariants, then each
-# method's drift:
-
-# %%
 spline_windows = long_time[long_time.method == "spline"]
-print(f"spline, modified energy H~: largest error "
-      f"{outputs.plain(spline_windows.modified_energy_error.max())}; modified angular momentum: "
-      f"{outputs.plain(spline_windows.modified_momentum_error.max())}")
-display(HTML(outputs.html_table(long_time_analysis.drift_summary(drift).reset_index())))
+cost_shown = {m: long_time_analysis.reproducible_round(
+                  v, long_time_analysis.ADAPTIVE_SPREAD if m == dop_label else 0.0)
+              for m, v in evaluations_per_orbit.items()}
 
 # %% jupyter={"source_hidden": true}
 fig, (ax, bx) = plt.subplots(2, 1, figsize=(outputs.WIDTH, 5.0), sharex=True)
@@ -152,6 +132,28 @@ bx.set_ylim(1e-16, 1)
 ax.set_ylim(1e-12, 1e-1)
 
 outputs.save_figure(fig, "long-time-invariants")
+
+# %% [markdown]
+# What each run costs, in evaluations of $F$ per orbit, and the largest
+# errors of the spline's modified invariants:
+
+# %%
+print(outputs.wrapped("evaluations per orbit: " + "; ".join(
+    f"{m} {v:,.0f}" for m, v in cost_shown.items())))
+print(f"spline, modified energy H~: largest error "
+      f"{outputs.plain(spline_windows.modified_energy_error.max())}; modified angular momentum: "
+      f"{outputs.plain(spline_windows.modified_momentum_error.max())}")
+
+# %% [markdown]
+# For each run, a power law error $\sim$ orbit$^b$ fitted to the largest
+# error of each sampled orbit from orbit 100 on: $b = 0$ is a bounded
+# error, $b = 1$ a linear drift:
+
+# %%
+GROWTH_FROM = 100
+drift = long_time_analysis.drift_table(long_time, evaluations_per_orbit, GROWTH_FROM)
+outputs.save_data(drift, "long-time-drift")
+display(HTML(outputs.html_table(long_time_analysis.drift_summary(drift).reset_index())))
 
 # %% [markdown]
 # In the figure the spline's energy error (top) and angular-momentum error

@@ -1,11 +1,12 @@
 # %% [markdown]
 # # Adaptive knots: the report's "improved accuracy through adaptability"
 #
-# Section 5 of the report names three directions: "improved accuracy through
-# adaptability", higher order, and obtaining "the coefficients at all points
-# in a single sweep or set of iterations through the use of Newton's method
-# and LU-decomposition".  This notebook builds the first into the package
-# and measures it against the uniform step and scipy's codes.  What it finds:
+# Section 5 of the report names three directions, in this order: obtaining
+# "the coefficients at all points in a single sweep or set of iterations
+# through the use of Newton's method and LU-decomposition", "improved
+# accuracy through adaptability", and higher-order polynomial splines.
+# This notebook builds the second into the package and measures it against
+# the uniform step and scipy's codes.  What it finds:
 #
 # * **The spline estimates its own error**: the jump of its third
 #   derivative at a knot gives each step's local error to a few per cent
@@ -98,9 +99,9 @@ print(outputs.wrapped(
 # The steps grow out towards apoapsis and shrink again towards the closing
 # periapsis.  They dip where a velocity component passes through zero (the
 # error norm weighs each by its own size): to 0.56 at apoapsis, where $x'$
-# does, and to 0.049 near the ends of the minor axis, where $y'$ does,
-# about a third of the size of the steps around them.  The steps, with the estimate against the
-# true local error:
+# does, and to 0.049 near the ends of the minor axis, where $y'$ does:
+# narrow dips below the steps around them, visible in the figure.  The
+# steps, with the estimate against the true local error:
 
 # %% jupyter={"source_hidden": true}
 fig, ax = plt.subplots(figsize=(outputs.WIDTH, 3.2))

@@ -1,11 +1,11 @@
 # %% [markdown]
 # # All knots at once: the single Newton-LU sweep and boundary value problems
 #
-# The report's third direction: "the coefficients at all points in a
-# single sweep or set of iterations through the use of Newton's method and
-# LU-decomposition".  The same step equations, solved for every knot
-# together, and with $y$ given at both ends: boundary value problems.  What
-# we find:
+# The first of the report's directions (Sec. 5): "the coefficients at all
+# points in a single sweep or set of iterations through the use of
+# Newton's method and LU-decomposition".  We read it as the same step
+# equations solved for every knot together; with $y$ given at both ends
+# they become boundary value problems.  What we find:
 #
 # * **All knots at once give the stepwise solution** (to
 #   $7 \times 10^{-13}$, in 2 to 3 Newton iterations) but spend 1.33 to 7.40

@@ -1,10 +1,10 @@
 # %% [markdown]
-# # Hard steps: the Pleiades, a retried step, Newton's method with a kept matrix, and the step-size check
+# # Hard steps: the Pleiades, a retried step, and Newton's method with a kept matrix
 #
 # Each spline step solves an implicit equation for its new knot, by the
 # fixed-point sweep (the report's "a few times") or by Newton's method.
-# This notebook asks what happens where that equation is hard, and whether
-# the run says so.  What it finds:
+# This notebook asks what happens where that equation is hard.  What it
+# finds:
 #
 # * **The step, not the solver, is the limit.**  On the Pleiades (seven
 #   stars with close encounters) three uniform steps lose the step
@@ -18,13 +18,11 @@
 # * **Newton's kept matrix** cuts full Newton's evaluations 14 to 15 times,
 #   and costs what the sweep costs (1.00 to 1.01 times) where the sweep
 #   converges: it is for steps where the sweep cannot.
-# * **The step-size check** (`splinestep.check`) raised 2 false alarms among
-#   34 accurate runs of eleven problems, both on a chain shaken by a
-#   recorded ground motion, and missed 4 of 13 inaccurate runs, where an
-#   orbit amplifies its error or damping run backwards turns into growth.
 #
 # It continues notebook 08 (adaptive knots); the step itself is built in
-# notebook 01 and `splinestep.step`.
+# notebook 01 and `splinestep.step`.  Whether the step-size check, which
+# flags the uniform runs here, speaks only when it should is notebook 12's
+# question.
 
 # %%
 import sys
@@ -38,7 +36,6 @@ sys.path.insert(0, "../scripts")  # outputs.py: the repository's data/, figures/
 import outputs
 import splinestep
 from splinestep import problems, step
-from splinestep.analysis import alarms
 
 plt = outputs.setup()
 
@@ -263,63 +260,9 @@ print(f"full Newton / kept matrix: {full_over_kept.min():.0f} to {full_over_kept
 # not a saving where it converges fast.
 
 # %% [markdown]
-# ## Does the step-size check speak only when it should?
-# A fixed-step run warns when its step is too large for its solution (the
-# step-size check, `splinestep.check`).  The study below
-# (`splinestep.analysis.alarms`) runs eleven problems at several fixed
-# steps, forwards and backwards, against exact or Radau solutions, among
-# them a damped chain of ten storeys under a ground-motion record given at
-# intervals of 0.01.  A false alarm is a warning on a run whose error is
-# below 1 % of its solution's scale; a miss is silence on a run off by more
-# than 10 %.  The table lists the false alarms, the misses and every run of
-# the chain:
-
-# %%
-alarm_table = pd.DataFrame(alarms.runs())
-outputs.save_data(alarm_table, "check-alarms")
-false_alarms, accurate, misses, inaccurate = alarms.tally(alarm_table.to_dict("records"))
-print(outputs.wrapped(
-    f"{len(alarm_table)} runs, {int((alarm_table.status == 0).sum())} reaching the end: "
-    f"{false_alarms} false alarms among the {accurate} accurate runs, {misses} misses among "
-    f"the {inaccurate} inaccurate ones"))
-
-# %% [markdown]
-# The runs on the chain, and every false alarm or miss:
-
-# %%
-verdicts = alarms.verdicts(alarm_table.to_dict("records"))
-shown = alarm_table.assign(verdict=verdicts)[lambda t: t.problem.str.startswith("chain")
-                                            | t.verdict.isin(["false alarm", "miss"])]
-shown_table = pd.DataFrame({
-    "problem": shown.problem,
-    "direction": np.where(shown.tf < shown.t0, "backwards", "forwards"),
-    "h": shown.h.map("{:.3g}".format),
-    "error / scale": [f"{e:.1e}" if status == 0 else "run failed"
-                      for e, status in zip(shown.relative_error, shown.status)],
-    "warned": shown.warned.map({True: "yes", False: "no"}), "verdict": shown.verdict})
-display(HTML(outputs.html_table(shown_table)))
-
-# %% [markdown]
-# The two false alarms are the ground-motion chain at the record's interval
-# and at half of it.  Accurate to a fraction of a per cent, they warn
-# because every sample of the record is a kink of the forcing at a knot,
-# which the jump of $y'''$ reads as a large $y''''$ although the step does
-# not feel it.  At twice the interval the steps skip every other sample,
-# the run is far off, and it warns, as it does at four times; at eight
-# times the run fails (its sweep contracts too slowly) and says so.
-#
-# The misses are the ones the estimates cannot see: orbits (the Kepler
-# orbit $e = 0.9$, the cannonball) whose drift amplifies the error made at
-# a periapsis passage, and a damped oscillator run backwards, where
-# damping turns into growth.
-
-# %% [markdown]
 # ## What to take away
 # On the Pleiades the step is limited by the close encounters, not by the
 # way its equation is solved: the sweep, the kept matrix and full Newton
 # fail at the same steps and reach the same errors.  Uniform steps must be
 # small everywhere to be safe; adaptive knots make them small where the
-# stars meet, and retry a step whose equation fails.  Where a fixed step is
-# too large, the step-size check says so on most runs: its false alarms
-# come from a forcing given as samples, its misses from errors that the
-# equation amplifies after they are made.
+# stars meet, and retry a step whose equation fails.

@@ -1,6 +1,6 @@
 """The report's claims against what the notebooks measured, and its errata.
 
-Notebook 13 builds its tables here: :func:`claims_table` (written to
+Notebook 14 builds its tables here: :func:`claims_table` (written to
 ``data/claims.csv`` and, by ``make reproduce``, into the README),
 :func:`errata_table` (``data/errata.csv``) and :func:`headline_numbers`
 (``data/headline-numbers.csv``, the few numbers the paper's prose states).
@@ -15,7 +15,7 @@ full, its kind (:data:`KINDS`) and the notebook section that measures it.
 The tables are plain text (``4.1e-03``, ``omega^2``, ``sqrt(12)``) with
 formulas in TeX between dollars (``$c_{i+1} = r - p\\thinspace b_{i+1}$``):
 :func:`readable` shows the text as a reader reads it and leaves the formulas
-to MathJax (the README, notebook 13, the website) and to the paper, which
+to MathJax (the README, notebook 14, the website) and to the paper, which
 typesets the few TeX commands they use.  Shown as tables, each reference of
 the column "where" links to its heading on the report page
 (:data:`REPORT_PAGE`, :func:`report_heading`) and each notebook section to
@@ -700,7 +700,7 @@ def newmark_family(m):
         "where more is wanted than the report's member reaches at its stability limit, its "
         "half period error should make it cheaper than average acceleration (inferred, not "
         "run), and Fox-Goodwin, at a similar number of steps, is far more accurate still",
-        "beyond the report", "12_newmark_family", "Verdict")
+        "beyond the report", "13_newmark_family", "Verdict")
 
 
 # The claims in the order of the table: the report's, then the findings beyond it.

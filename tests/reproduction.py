@@ -47,7 +47,7 @@ numbers, not from the digits one machine printed:
     and a bounded error stay apart), exponents to 0.1.
 ``spectrum``
     The period error and damping ratio of a member of Newmark's family, read
-    from an eigenvalue of its 3 x 3 amplification matrix (notebook 12).  The
+    from an eigenvalue of its 3 x 3 amplification matrix (notebook 13).  The
     eigenvalue's angle is known to a few eps absolutely, so the period
     error Omega / theta - 1 to about 1e-12 at Omega = 0.01 (another CPU's
     eigenvalues moved a Fox-Goodwin value of -7.3e-11 by 1.3e-12): they

@@ -1,4 +1,4 @@
-"""The claims table of notebook 13 (scripts/claims.py): every claim points
+"""The claims table of notebook 14 (scripts/claims.py): every claim points
 at a section that exists, and the count of verdicts adds up."""
 
 import re

@@ -74,7 +74,7 @@ def test_the_claims_notebook_runs_whenever_another_does(tmp_path, monkeypatch):
     too, whatever the order of the list it is found in (here the claims
     notebook is listed before the stale one)."""
     import reproduce
-    notebooks = [tmp_path / f"{name}.py" for name in ("01_a", "13_claims_and_errata", "08_b")]
+    notebooks = [tmp_path / f"{name}.py" for name in ("01_a", "14_claims_and_errata", "08_b")]
     for path in notebooks:
         path.write_text(f"# {path.stem}\n")
     monkeypatch.setattr(reproduce, "NOTEBOOKS", notebooks)
@@ -85,7 +85,7 @@ def test_the_claims_notebook_runs_whenever_another_does(tmp_path, monkeypatch):
     assert reproduce.to_run(state) == []
     notebooks[2].write_text("# 08_b, edited\n")
     assert [(s.stem, why) for s, why in reproduce.to_run(state)] == [
-        ("13_claims_and_errata", "the others' data may have changed"),
+        ("14_claims_and_errata", "the others' data may have changed"),
         ("08_b", "its inputs changed")]
 
 
@@ -115,12 +115,12 @@ def test_inputs_are_taken_before_the_run(tmp_path):
 
 def test_naming_a_notebook_runs_the_claims_notebook_too(monkeypatch, tmp_path):
     import reproduce
-    notebooks = [tmp_path / f"{name}.py" for name in ("01_a", "13_claims_and_errata", "08_b")]
+    notebooks = [tmp_path / f"{name}.py" for name in ("01_a", "14_claims_and_errata", "08_b")]
     monkeypatch.setattr(reproduce, "NOTEBOOKS", notebooks)
     state = freshness.State(tmp_path / "state.json", tmp_path)
     assert [(s.stem, why) for s, why in reproduce.to_run(state, ["08"])] == [
-        ("08_b", "asked for"), ("13_claims_and_errata", "the others' data may have changed")]
-    assert [s.stem for s, _ in reproduce.to_run(state, ["13"])] == ["13_claims_and_errata"]
+        ("08_b", "asked for"), ("14_claims_and_errata", "the others' data may have changed")]
+    assert [s.stem for s, _ in reproduce.to_run(state, ["14"])] == ["14_claims_and_errata"]
 
 
 def test_the_paper_is_rebuilt_from_every_file_it_reads():

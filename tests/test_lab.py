@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "scripts"))
 import lab  # noqa: E402
 
-NOTEBOOK = "notebooks/13_claims_and_errata"
+NOTEBOOK = "notebooks/14_claims_and_errata"
 
 
 def free_port():

@@ -2,7 +2,7 @@
 tables make to it and to the notebooks' sections (scripts/claims.py): every
 "where" of data/claims.csv and data/errata.csv names a heading of the page,
 every "measured in" a heading of its notebook, and the links written into
-the README and notebook 13 lead there.  The anchors are computed here as
+the README and notebook 14 lead there.  The anchors are computed here as
 MyST computes them (markdown-it with dollar math, myst_parser's GitHub slug
 of a heading's text and code), independently of the tables' generator."""
 
@@ -141,7 +141,7 @@ def test_the_readme_tables_link_to_headings_that_exist():
 
 
 def test_the_claims_notebook_links_to_headings_that_exist():
-    cells = json.loads((ROOT / "notebooks" / "13_claims_and_errata.ipynb").read_text())["cells"]
+    cells = json.loads((ROOT / "notebooks" / "14_claims_and_errata.ipynb").read_text())["cells"]
     html = "".join("".join(o.get("data", {}).get("text/html", "")) for c in cells
                    for o in c.get("outputs", []))
     targets = re.findall(r'href="([^"]+#[^"]*)"', html)

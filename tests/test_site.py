@@ -387,7 +387,7 @@ def test_the_sidebar_lists_the_notebooks_by_number(site):
     listed = re.findall(r'href="notebooks/(\d\d)_\w+\.html">\s*(\d\d) \u00b7 ', sidebar)
     numbers = [n for n, _ in listed]
     assert numbers == sorted(p.stem[:2] for p in NOTEBOOKS)
-    assert all(a == b for a, b in listed) and numbers[-1] == "13"
+    assert all(a == b for a, b in listed) and numbers[-1] == "14"
     article = page[page.index('<article'):page.index('</article>')]
     assert re.findall(r'href="notebooks/(\d\d)_\w+\.html">', article[article.index("Where to go next"):]
                       )[:len(numbers)] == numbers

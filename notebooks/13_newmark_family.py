@@ -79,8 +79,8 @@ for name in NAMES:
     shown.append({"member": name,
                   r"$\Omega_{\rm crit}$": "∞" if damped else f"{member.stability_limit:.3f}",
                   r"$\rho_\infty$": f"{rows[-1]['rho_inf']:.3f}" if damped else "(unstable there)",
-                  "$T_h/T - 1$": f"${sp.latex(period, order='rev-lex')}$",
-                  r"$\xi_h$": f"${sp.latex(damping, order='rev-lex')}$"})
+                  "$T_h/T - 1$": rf"$\displaystyle {sp.latex(period, order='rev-lex')}$",
+                  r"$\xi_h$": rf"$\displaystyle {sp.latex(damping, order='rev-lex')}$"})
 outputs.save_data(pd.DataFrame(rows), "family-members")
 display(HTML(outputs.html_table(pd.DataFrame(shown))))
 
