@@ -192,23 +192,27 @@ outputs.save_figure(fig, "method-phase-error")
 # $x^2/24$ until near the limit, where it turns down: it is largest, 0.20,
 # at $\omega h = 3.11$, and as $\omega h \to \sqrt{12}$ the step's angle
 # $\Omega h$ tends to $\pi$ (two steps per numerical period), so that
-# $T_h/T - 1 = \omega h/(\Omega h) - 1$ tends to $\sqrt{12}/\pi - 1 = 0.103$.  This explains what the report
-# found:
+# $T_h/T - 1 = \omega h/(\Omega h) - 1$ tends to $\sqrt{12}/\pi - 1 = 0.103$.
+#
+# This explains what the report found, second order, and two things it
+# did not claim, which later notebooks measure:
 #
 # * **second order** (Fig. 3): the local error of the linear-acceleration
 #   method is $h^4 y''''/24 + O(h^5)$ in $y$ and $+h^3 y''''/12 + O(h^4)$ in
 #   $y'$, so the global error is $O(h^2)$;
-# * **a bounded energy error on the cannonball**: for a conservative force,
+# * **a bounded energy error on the cannonball** (not claimed by the
+#   report, which runs to $t = 50$ only): for a conservative force,
 #   $y'' = -\nabla V(y)$, Newmark's method with $\gamma = 1/2$ is symplectic
 #   for a modified symplectic form (Kane, Marsden, Ortiz & West 2000), so
 #   the energy error stays bounded and oscillates with the orbit
 #   (`02_cannonball`), while the phase drifts linearly (on the oscillator it
 #   lags by $2\pi x^2/24$ per period to leading order; on the ellipse the
-#   lag per orbit is measured in `07_long_time`), and so does the position error.  The report's rigid body in
+#   lag per orbit is measured in `08_long_time`), and so does the position error.  The report's rigid body in
 #   its second-order form is not of that form, and there the energy error
 #   does grow (`03_rigid_body`): the bounded error is a property of the
 #   method on conservative problems, not on every problem;
-# * **one sweep is enough for the order**: the initial guess $z = y''_i$ is
+# * **one sweep is enough for the order** (the report iterates "a few
+#   times"): the initial guess $z = y''_i$ is
 #   wrong by $O(h)$.  When $F$ does not depend on $y'$, one sweep multiplies
 #   that by $\tfrac{h^2}{6} \partial F/\partial y = O(h^2)$, leaving $O(h^3)$,
 #   which changes $a_{i+1}$ by $O(h^5)$ and $b_{i+1}$ by $O(h^4)$, below the
@@ -221,4 +225,4 @@ outputs.save_figure(fig, "method-phase-error")
 #   only changes the constant.  Over long runs one sweep is another method:
 #   the predictor-corrector is not symmetric, and on the cannonball its
 #   energy error drifts linearly where the converged step's stays bounded
-#   (notebook 07).
+#   (notebook 08).

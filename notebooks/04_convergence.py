@@ -276,7 +276,7 @@ for m, g in fixed.groupby("method", sort=False):
 # constants are equal and opposite ($\mp 1/12$), which on the oscillator
 # gives period errors equal and opposite to leading order ($\pm x^2/24$;
 # the $x^4$ terms have the same sign).  On this orbit the spline's phase
-# drifts faster than Verlet's (notebook 07 measures it over 200 orbits),
+# drifts faster than Verlet's (notebook 08 measures it over 200 orbits),
 # which accounts for much, not all, of the factor over $t \in [0, 50]$.
 # This is one orbit, $\mu = 0.6$; the other orbits were not measured.
 #
@@ -288,6 +288,7 @@ for m, g in fixed.groupby("method", sort=False):
 # Verlet does (and 15 times more per run for its step-size check), and its
 # error is about 1.8 times Verlet's.
 #
-# Iterated to convergence, the spline stepper is Verlet in other variables
+# Iterated to convergence, the spline stepper is Verlet on a modified force,
+# in other variables (notebook 05),
 # and buys nothing over it for $y'' = f(y)$ but its extra cost; its
 # difference is that it handles $F(t, y, y')$ implicitly.

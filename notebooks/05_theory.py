@@ -1,8 +1,8 @@
 # %% [markdown]
 # # Why it behaves as it does: a convergence proof, and Stormer-Verlet in other variables
 #
-# The report closes on "a formal proof of its convergence may lend some
-# insight into its performance" (Sec. 5).  This notebook
+# The report's discussion (Sec. 5) ends on "a formal proof of its
+# convergence may lend some insight into its performance".  This notebook
 # derives the method's properties with a computer algebra system
 # (`splinestep.analysis.theory`, sympy) and measures every derived constant
 # with the package.  What it proves, and measures:
@@ -25,7 +25,7 @@
 #
 # The last section puts each derived constant beside its measurement.
 # Notebook 06 takes up the report's "higher-order polynomial splines",
-# notebook 07 what the theory predicts for long runs.
+# notebook 08 what the theory predicts for long runs.
 
 # %%
 import sys
@@ -281,8 +281,8 @@ outputs.save_figure(fig, "theory-oscillator")
 
 # %% [markdown]
 # Left: the leading term and the two-term series each miss the measured
-# period error by the first term they leave out (dotted), until near
-# $x = 1$ the series itself stops being a good guide; the closed form
+# period error by about the first term they leave out (dotted), closely
+# at small $x$ and more loosely towards the stability limit; the closed form
 # agrees with the measurement to rounding at every $x$ (its triangles sit on
 # the grey line, below which differences are rounding).  Right: the measured amplitude factor is 1
 # up to $\sqrt{12}$ and follows the closed form beyond it, where one
@@ -353,7 +353,7 @@ print(f"  |Verlet on f - spline| up to {plain_gap:.2f}")
 #   the spline's energy error stays $O(h^2)$ without drift, for times
 #   exponentially long in $1/h$ where the theorem's hypotheses hold (an
 #   analytic Hamiltonian on a bounded region: for Kepler, away from $r = 0$);
-#   notebook 07 measures no drift over $10^4$ orbits;
+#   notebook 08 measures no drift over $10^4$ orbits;
 # * **phase**: on the oscillator the period error is Verlet's with the
 #   opposite sign at leading order (section 3: $\pm x^2/24$).
 #
@@ -470,5 +470,5 @@ display(HTML(outputs.html_table(theory.constants_table(constants), text=outputs.
 # exact in exact arithmetic, leaves the two runs, made by two different
 # codes, $1.5 \times 10^{-9}$ apart after 421489 steps.  The
 # method is of order 2 and converges, is stable below $\omega h = \sqrt{12}$,
-# and is Stormer-Verlet in other variables: notebook 07 follows what that
+# and is Stormer-Verlet in other variables: notebook 08 follows what that
 # means for runs of 10,000 orbits.

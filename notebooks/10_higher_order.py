@@ -184,7 +184,7 @@ outputs.save_figure(fig, "composition-work")
 # The ellipse over 10,000 orbits at $h = 0.08$ (the largest step of the
 # work-precision comparison above): the report's method, the order-4
 # composition, and RK4 at the composition's work (its step stretched to
-# spend the same evaluations).  As in notebook 07, each run is sampled over
+# spend the same evaluations).  As in notebook 08, each run is sampled over
 # whole orbits at logarithmically spaced orbit numbers, at 64 of its own
 # steps per sampled orbit.  (Both spline runs end flagged by their
 # step-size check, and both end past its threshold: the check's verdict is

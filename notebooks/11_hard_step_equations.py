@@ -19,7 +19,7 @@
 #   and costs what the sweep costs (1.00 to 1.01 times) where the sweep
 #   converges: it is for steps where the sweep cannot.
 #
-# It continues notebook 08 (adaptive knots); the step itself is built in
+# It continues notebook 07 (adaptive knots); the step itself is built in
 # notebook 01 and `splinestep.step`.  Whether the step-size check, which
 # flags the uniform runs here, speaks only when it should is notebook 12's
 # question.

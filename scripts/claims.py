@@ -160,7 +160,7 @@ class Measured:
 
     def adaptive_cost(self, problem, adaptive, uniform):
         """Adaptive over uniform evaluations at equal final error on one
-        problem of notebook 08's study, (least, most) over the adaptive runs
+        problem of notebook 07's study, (least, most) over the adaptive runs
         a uniform run was matched to (``adaptive``: "spline" or "spline, 1
         sweep"; ``uniform``: "iterated", "2 sweeps" or "1 sweep")."""
         cost = self.tolerance_cost
@@ -418,7 +418,7 @@ def bounded_energy(m):
         "so a modified energy is conserved and the energy error does not drift over 10,000 "
         "orbits; the phase drifts; this holds for the step equation solved to convergence, not "
         "for one sweep per step",
-        "beyond the report", "07_long_time", "10,000 orbits of the ellipse")
+        "beyond the report", "08_long_time", "10,000 orbits of the ellipse")
 
 
 def against_verlet(m):
@@ -442,7 +442,7 @@ def against_verlet(m):
 
 
 def adaptability(m):
-    """The improvements the report suggests (notebooks 08 and 11)."""
+    """The improvements the report suggests (notebooks 07 and 11)."""
     gain_one, gain_iter = m.adaptive_gain("1 sweep"), m.adaptive_gain("iterated")
     others = ("harmonic oscillator", "forced Duffing", "pendulum, 3 rad", "rational, backwards")
 
@@ -457,7 +457,7 @@ def adaptability(m):
     rtol_span = " to ".join(f"1e{round(np.log10(r))}"
                             for r in (matched_rtols.max(), matched_rtols.min()))
     estimate = m.adaptive_estimate
-    # Steps whose true local error is below rounding (notebook 08) are left out.
+    # Steps whose true local error is below rounding (notebook 07) are left out.
     estimate = estimate[estimate.true > 1e-12]
     pleiades = m.pleiades_steps
     # The uniform runs this claim states: h >= 1e-3 (notebook 11 also runs smaller steps).
@@ -520,7 +520,7 @@ def adaptability(m):
         f"evaluations per step, {kept_over_sweep.min():.2f} to {kept_over_sweep.max():.2f} times "
         f"the default fixed-point sweep's",
         f"built: rtol bounds the final error of y (below rtol times the solution's scale on "
-        f"{problems_measured} problems, as measured in notebook 08, with each step iterated to "
+        f"{problems_measured} problems, as measured in notebook 07, with each step iterated to "
         f"convergence; with one sweep per step up to {worst_one_sweep.error_ratio:.2f} times on "
         f"the {worst_one_sweep.problem}; "
         f"not on Pleiades, whose close encounters amplify errors: "
@@ -532,7 +532,7 @@ def adaptability(m):
         f"h = 1e-4 reaches t = 3 with error {sci(uniform_fine.error.min())}, unflagged, at "
         f"{uniform_fine.nfev.min() / adaptive_coarse.nfev.min():.1f} times the evaluations of "
         f"adaptive rtol 1e-4 (error {sci(adaptive_coarse.error.min())}); where the solution's "
-        f"scale varies less the gain is small or negative (notebook 08, both runs iterated to "
+        f"scale varies less the gain is small or negative (notebook 07, both runs iterated to "
         f"convergence: adaptive knots cost {cost(others[0])} times the uniform evaluations on "
         f"the oscillator, {cost(others[1])} on the forced Duffing oscillator, {cost(others[2])} "
         f"on the pendulum and {cost(others[3])} on the rational problem; against a uniform "
@@ -542,7 +542,7 @@ def adaptability(m):
         f"orbit e = 0.9 over 300 orbits reversible steps keep the energy error bounded where "
         f"error-controlled knots do not; keeping "
         f"Newton's matrix saves only against full Newton, not against the sweep",
-        "built", "08_adaptive_steps", "Adaptive knots")
+        "built", "07_adaptive_steps", "Adaptive knots")
 
 
 def higher_order(m):

@@ -51,7 +51,7 @@ NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.py"))
 LAST = ("14_claims_and_errata",)
 # Notebooks start longest first (times from `make bench`), so that the short
 # ones fill the gaps at the end; any other notebook starts after these.
-ORDER = ("08_adaptive_steps", "07_long_time", "10_higher_order", "05_theory",
+ORDER = ("07_adaptive_steps", "08_long_time", "10_higher_order", "05_theory",
          "11_hard_step_equations", "09_global_sweep_and_bvp", "13_newmark_family",
          "12_step_size_check", "06_higher_degree", "04_convergence", "03_rigid_body",
          "02_cannonball", "01_method")

@@ -159,7 +159,7 @@ COLUMNS = {
                                     growth_ratio="error", drift_rate="error"),
     # The paper's prose numbers, each from a file checked at its own kinds.
     "headline-numbers": dict(value="adaptive"),
-    # Notebooks 08 to 09.  An adaptive run's knots come from accept/reject decisions.
+    # Notebooks 07 to 09.  An adaptive run's knots come from accept/reject decisions.
     "adaptive-estimate": dict(t="adaptive", h="adaptive", r="adaptive", estimated="adaptive",
                               true="adaptive"),
     # rtol against the global error: every row an adaptive run (this

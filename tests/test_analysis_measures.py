@@ -1,5 +1,5 @@
 """The measurement helpers the notebooks call (splinestep.analysis:
-long_time for notebook 07, adaptive for 08, error_location for 02), each
+long_time for notebook 08, adaptive for 07, error_location for 02), each
 against a closed form or an independent computation."""
 
 import numpy as np
@@ -118,7 +118,7 @@ def test_trajectories_and_their_separation_from_the_exact_orbit():
 
 
 def test_reproducible_round_keeps_the_digits_another_cpu_reproduces():
-    """DOP853's evaluations per orbit on two machines (notebook 07): 190 and
+    """DOP853's evaluations per orbit on two machines (notebook 08): 190 and
     200 at two digits, 200 at the digits that a 5 % spread reproduces; a
     count that reproduces exactly keeps two digits."""
     assert [float(f"{v:.1e}") for v in (194.99, 195.61)] == [190.0, 200.0]

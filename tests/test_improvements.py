@@ -450,7 +450,7 @@ def test_reversible_steps_keep_the_energy_bounded_and_retrace():
 
 
 def test_error_controlled_energy_error_keeps_one_sign_in_every_orbit():
-    """Kepler e = 0.9 over 300 orbits at rtol 0.1 (notebook 07): within every
+    """Kepler e = 0.9 over 300 orbits at rtol 0.1 (notebook 08): within every
     orbit H - H0 of the error-controlled knots keeps one sign, so its
     growth is a drift, not an oscillation about H0."""
     from splinestep.analysis import adaptive

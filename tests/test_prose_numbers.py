@@ -32,9 +32,9 @@ NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.py"))
 # and the Python version the environment pins.
 INPUTS = [3.11, 0.4, 0.5, 0.6, 1.0, 50, 0.01, 0.016, 80, 800, 0.08, 6.25e-4, 1e-3, 1e-10, 1e-12,
           1e-13, 1e-14, 1e-2, 400, 24, 72, 576, 1.5, 4.5, 20, 200,
-          # notebooks 08 and 09: the eccentric orbit, the Bratu guesses, tolerances, the long run
+          # notebooks 07 and 09: the eccentric orbit, the Bratu guesses, tolerances, the long run
           0.9, 0.1, 1e-6, 1e-8, 1e-11, 300,
-          # notebooks 07 and 10: samples per sampled orbit of the long runs
+          # notebooks 08 and 10: samples per sampled orbit of the long runs
           64]
 REFERENCE = re.compile(r"(?:eqs?\.|Secs?\.|Section|Figs?\.|Figure|Ch\.|Sec|issue #)\s*\d+[a-z]?"
                        r"(?:\s*[-,]\s*\d+[a-z]?)*|\b(?:19|20)\d\d\b|\b\d\d_\w+")

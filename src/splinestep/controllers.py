@@ -63,7 +63,7 @@ smaller when no contraction was measured).  The estimates read y'' at the
 knots through differences, so the sweep of a stiff equation goes on until
 y'' is known well enough for them (:func:`noise_weights`).  Measured on
 five problems over rtol = 1e-3 ... 1e-8 (:mod:`splinestep.analysis.tolerance`,
-notebook 08), the final error of y stays below rtol times the solution's
+notebook 07), the final error of y stays below rtol times the solution's
 scale and that of y' within 10 times (the largest error over a run up to
 2.6 times, on the pendulum at rtol 1e-3), and the error falls with rtol at
 slopes 0.90 to 1.28.  Where a problem amplifies errors, no control of

@@ -2,7 +2,7 @@
 
 An error-controlled step size depends on the error estimate, which is not
 symmetric in time: stepping back does not retrace the steps, and the
-bounded energy error of a fixed step is lost (notebook 07 shows the drift).
+bounded energy error of a fixed step is lost (notebook 08 shows the drift).
 Hairer and Soderlind keep it by making the step size itself the output of a
 symmetric recursion.  With a step-size function s(y) (the steps are
 proportional to s: small where s is small, so that the density of steps is

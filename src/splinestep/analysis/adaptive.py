@@ -1,6 +1,6 @@
 """Measurements of adaptive knots: the true local error of each step
-(notebook 08) and, over long runs, the energy error orbit by orbit
-(notebook 07).  Their cost against uniform steps is measured in
+(notebook 07) and, over long runs, the energy error orbit by orbit
+(notebook 08).  Their cost against uniform steps is measured in
 :mod:`splinestep.analysis.tolerance`.
 """
 

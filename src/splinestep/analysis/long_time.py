@@ -1,6 +1,6 @@
 """Long runs on the Kepler problem: invariant errors sampled orbit by orbit,
 the spline stepper's modified invariants, and the growth fitted to them
-(notebooks 07 and 10).
+(notebooks 08 and 10).
 
 A long run is sampled over whole orbits at a few orbit numbers (spaced
 logarithmically), at the method's own steps; in each sampled orbit the
@@ -27,7 +27,7 @@ from ..problems import first_order
 # How far an evaluation count of scipy's adaptive DOP853 may move from one
 # CPU to another: an accept/reject decision flips with the rounding of its
 # error estimate, and the step sequence changes from there on.  Measured on
-# the 1,000-orbit run of notebook 07: 194.99 evaluations per orbit on an AMD
+# the 1,000-orbit run of notebook 08: 194.99 evaluations per orbit on an AMD
 # EPYC, 195.61 on an Intel Xeon, and 195.55 there with atol 1e-6 written
 # instead of 1e-4 * 1e-2, one rounding unit away; the data checks allow 5 %
 # (tests/reproduction.py, kind "adaptive").
@@ -212,7 +212,7 @@ def matching_tolerance(problem, t_end, target, rtols, samples=401):
 
 
 def fixed_step_runs(problem, t_end, h, t_eval, threads=2):
-    """The long fixed-step runs of notebook 07, side by side in threads.
+    """The long fixed-step runs of notebook 08, side by side in threads.
 
     Parameters
     ----------

@@ -24,8 +24,8 @@
 #   uniform step with one sweep they lose on all four.
 #
 # Over long runs error-controlled knots lose the bounded energy error of a
-# fixed step: notebook 07 measures it, with time-reversible steps that keep
-# it.  Notebook 10 builds the higher orders, notebook 09 the single sweep
+# fixed step: the next notebook, 08, measures it, with time-reversible
+# steps that keep it.  Notebook 10 builds the higher orders, notebook 09 the single sweep
 # and the boundary value problems it makes possible.  How the comparisons were
 # matched and checked is at the end.
 
@@ -211,16 +211,14 @@ display(HTML(outputs.html_table(shown.rename_axis("problem").reset_index())))
 
 # %% [markdown]
 # Both iterated (the first column), the knots cost 0.027 to 0.036 times
-# the uniform evaluations on the Kepler orbit: they save 28 to 37 times.
+# the uniform evaluations on the Kepler orbit: they save 28 to 37 times
 # ("4 of 6": the uniform runs reach the errors of four of its six
-# tolerances.)  On the four milder problems they
-# cost 0.57 to 5.06 times the uniform evaluations: 0.57 to 1.06 on the
-# oscillator, 0.78 to 1.07 on the forced Duffing oscillator, 1.21 to 5.06
-# on the pendulum, 1.07 to 1.14 on the rational problem.  Against a
-# uniform step with one sweep per step (second column) the uniform step is
-# cheaper on all four (1.20 to 4.13).  With one sweep on both sides (last
-# column) the knots cost 1.07 to 2.11 times the uniform evaluations on
-# those four, and 0.020 to 0.021 on the orbit.
+# tolerances).  On the four milder problems they save little or lose,
+# costing 0.57 to 5.06 times the uniform evaluations, the most on the
+# pendulum.  A uniform step with one sweep per step (second column) is
+# cheaper than the iterated knots on all four.  With one sweep on both
+# sides (last column) the knots still lose on those four and save 47 to 49
+# times on the orbit.
 
 # %% jupyter={"source_hidden": true}
 greys = {"uniform, iterated": ("0.15", "-"), "uniform, 1 sweep": ("0.6", "--")}

@@ -164,7 +164,7 @@ display(HTML(outputs.html_table(long_time_analysis.drift_summary(drift).reset_in
 #
 # The fitted exponents say the same: +0.00 for the spline's energy error,
 # as Verlet's, while its modified energy $\tilde H$ of notebook 05 varies
-# by $2.2 \times 10^{-11}$ only, an $O(h^4)$ quantity: the bounded error is
+# by $2.2 \times 10^{-11}$ only: the bounded error is
 # the conjugacy's modified energy at work.  Its angular momentum
 # $q \times v$ oscillates without drift (exponent +0.00), and
 # $(1 + h^2\mu/6r^3)\, q \times v$ stays within $2.9 \times 10^{-12}$ of its
@@ -298,14 +298,10 @@ print(outputs.wrapped(
 
 # %% [markdown]
 # ## Variable steps over long times
-# A fixed step keeps the energy error bounded (above).  A problem whose
-# time scale varies along the solution wants variable steps instead.  The
-# usual way chooses them by error control: each step is sized so that an
-# estimate of its local error (for the spline, from the jump of its third
-# derivative at a knot) meets a tolerance rtol; notebook 08 builds and
-# measures these error-controlled knots.  Over long runs they lose the
-# bounded energy error, since the step sizes then depend on an error
-# estimate that is not symmetric in time.
+# A fixed step keeps the energy error bounded (above).  The
+# error-controlled knots of notebook 07, each step sized so that its
+# estimated local error meets rtol, lose it over long runs, since the step
+# sizes then depend on an error estimate that is not symmetric in time.
 #
 # Hairer and Soderlind (2005) restore it: the step is $\varepsilon/\rho$,
 # with the control variable $\rho$ updated by a leapfrog recursion
@@ -316,10 +312,9 @@ print(outputs.wrapped(
 # compiled `problems.step_size_control`).  Step and recursion are
 # symmetric, so the whole method is.
 #
-# The test is notebook 08's Kepler orbit of eccentricity 0.9 ($\mu = 1$,
-# launched at periapsis $r = 1$), fast at periapsis and slow at
-# apoapsis, so that no fixed step suits it.  We run 300 orbits three
-# ways: error-controlled knots
+# The test is notebook 07's Kepler orbit of eccentricity 0.9, where
+# adaptive knots pay most.  We run 300 orbits three ways: error-controlled
+# knots
 # at rtol 0.1, and reversible steps at $\varepsilon = 10^{-2}$ and at the
 # $\varepsilon$ that spends the same evaluations per orbit as the
 # error-controlled run, taking in each orbit the largest energy error over
