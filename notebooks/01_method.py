@@ -142,7 +142,7 @@ print(outputs.wrapped(
 # solution's size, or one step's exceeds a tenth of it, and the run warns
 # that the step is too large for the solution: over 400 steps the period
 # error adds up to a phase error of $400\,(\omega h)^3/24$ radians to
-# leading order, 0.27 at $\omega h = 0.25$.  The warnings are collected
+# leading order, 0.27 at $\omega h = 0.252$.  The warnings are collected
 # above instead of printed.  The figure shows the period error and the
 # amplitude factor against $\omega h$:
 

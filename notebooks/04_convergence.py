@@ -273,12 +273,13 @@ for m, g in fixed.groupby("method", sort=False):
 # %% [markdown]
 # At the same step the spline's error is about 1.84 times Verlet's at
 # every step size: a constant factor, not 1.  The two methods' error
-# constants are equal and opposite ($\mp 1/12$), which on the oscillator
-# gives period errors equal and opposite to leading order ($\pm x^2/24$;
-# the $x^4$ terms have the same sign).  On this orbit the spline's phase
-# drifts faster than Verlet's (notebook 08 measures it over 200 orbits),
-# which accounts for much, not all, of the factor over $t \in [0, 50]$.
-# This is one orbit, $\mu = 0.6$; the other orbits were not measured.
+# constants are equal and opposite ($\mp 1/12$), and on the oscillator
+# their period errors are equal in size to leading order ($\pm x^2/24$).
+# That picture does not carry over to the orbit: there both methods'
+# periods come out too long, the spline's by more (notebook 08 measures
+# both), and its phase drifts faster.  The factor is measured here, not
+# derived, and on one orbit, $\mu = 0.6$; the other orbits were not
+# measured.
 #
 # At equal evaluations the converged spline's error is 7.4 to 19 times
 # Verlet's: the factor at the same step times the square of the spline's

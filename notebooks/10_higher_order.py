@@ -330,25 +330,12 @@ outputs.save_figure(fig, "composition-long")
 # %% [markdown]
 # ## The step-size check on the long runs: a true alarm, not a sharp one
 #
-# Each spline run ends with its step-size check (`splinestep.check`),
-# which sums the local errors it estimates at every step.  Both long runs
-# are flagged: the sums pass 0.3 of the solution's size in $y'$, and the
-# warning says that, unless the equation damps them, the solution is off
-# by as much.  Whether it is, against the exact orbit: the threshold is
-# 0.3 of the solution's size, on the exact orbit $0.3 \max|y|$ and
-# $0.3 \max|y'|$.  We find the orbit
-# where each run's error in $y$ and in $y'$ passes it (interpolated
-# between the sampled orbits, `long_time.crossing`), and the orbit where
-# the check's sum passes it (the sum grows by the same amount every orbit).
-
-# %%
-for order, found in check_sums.items():
-    print(outputs.wrapped(f"order {order}: " + ("the sum not flagged" if found is None else
-          f"flagged; estimates summed over the run {found['sum_y']:g} in y, {found['sum_yp']:g} "
-          f"in y' (max |y| = {found['y_scale']:g}, max |y'| = {found['yp_scale']:g})")))
-
-# %% [markdown]
-# The threshold, and where each run's error passes it:
+# Both long spline runs end flagged by their step-size check (notebook
+# 12): the local errors it estimates, summed over the run, pass 0.3 of the
+# solution's size.  Against the exact orbit, with that threshold
+# ($0.3 \max|y|$ and $0.3 \max|y'|$): the orbit where each run's error
+# passes it (interpolated between the sampled orbits), and the orbit where
+# the check's sum does (it grows by the same amount every orbit):
 
 # %%
 print(f"threshold: {threshold['y']:.2f} in y, {threshold['yp']:.2f} in y'")
@@ -383,9 +370,8 @@ for method, res in long_runs.items():
 # orbit amplifies (the check's documentation, `splinestep.check`, says
 # so).  The composition passes the threshold in $y'$ only near orbit 710:
 # for order 4 the check sums the estimates of one cubic step of the
-# composed step's size, that is the local errors of the report's method
-# (the same 13 in $y'$), not those of the composition, which are far
-# smaller.  A run of the composition that ends between orbits 230 and 710
+# composed step's size, that is the local errors of the report's method,
+# not those of the composition, which are far smaller.  A run of the composition that ends between orbits 230 and 710
 # would be flagged while within the threshold: a false alarm there.
 #
 # Where RK4's energy error passes the composition's, near orbit 4290, the
