@@ -257,7 +257,10 @@ outputs.save_figure(fig, "tolerance-cost")
 # and black: both iterated; orange and dashed grey: both one sweep),
 # printed in each panel.  On the Kepler orbit the adaptive knots lie one
 # and a half decades to the left of the uniform runs; on the other four
-# they lie close to them, on the pendulum to their right.
+# they lie close to them, on the pendulum to their right.  scipy's RK45
+# and DOP853 (dotted), of orders 5 and 8, reach the same errors with far
+# fewer evaluations on every problem: the question here is only what
+# adaptive knots give the spline over its uniform step.
 
 # %% [markdown]
 # The orbit is where adaptive knots pay.  Its uniform evaluations over the
@@ -276,8 +279,12 @@ print("uniform evaluations per step, iterated: "
 # %% [markdown]
 # With one sweep per step on both sides the ratio hardly changes with
 # rtol.  Iterated it falls as the error falls: the iterated uniform run
-# needs fewer sweeps per step as its step shrinks, so the knots gain less
-# where more accuracy is asked.  The errors of rtol $10^{-7}$ and
+# needs fewer sweeps per step as its step shrinks (the sweep stops when
+# its change of the increments, $h^2/6$ and $h/2$ times its change of
+# $y''$, is below the tolerance, which at small steps the first sweep
+# already meets: 2.01 evaluations of $F$ per step at the coarsest step,
+# 1.13 at the finest), so the knots gain less where more accuracy is
+# asked.  The errors of rtol $10^{-7}$ and
 # $10^{-8}$ would need more uniform steps than were run.
 
 # %% [markdown]

@@ -48,12 +48,13 @@ import rerun_report
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.py"))
 # Notebooks that read the data the others write: run after all the others.
-LAST = ("14_claims_and_errata",)
+# 12_step_size_check reads the long runs of 10_higher_order (data/composition-check.csv).
+LAST = ("12_step_size_check", "14_claims_and_errata")
 # Notebooks start longest first (times from `make bench`), so that the short
 # ones fill the gaps at the end; any other notebook starts after these.
 ORDER = ("07_adaptive_steps", "08_long_time", "10_higher_order", "05_theory",
          "11_hard_step_equations", "09_global_sweep_and_bvp", "13_newmark_family",
-         "12_step_size_check", "06_higher_degree", "04_convergence", "03_rigid_body",
+         "06_higher_degree", "04_convergence", "03_rigid_body",
          "02_cannonball", "01_method")
 # Notebooks run at the same time (each kernel is one process).
 JOBS = int(os.environ.get("SPLINESTEP_JOBS", "2"))

@@ -23,7 +23,6 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "scripts"))
 import outputs  # noqa: E402  (the Unicode tables of the notebooks' tables)
 from paper import SAVED_FIGURE, SOURCE as PAPER  # noqa: E402,F401
-from reproduce import LAST  # noqa: E402  (the notebooks read last, and listed last)
 
 # Code cells of more lines than this are collapsed on the site.
 SHOWN_LINES = 12
@@ -136,11 +135,10 @@ MANUAL = ("guide", "api", "scipy", "step-size-check", "fast-path", "speed", "fin
 
 
 def notebook_pages(root=ROOT):
-    """[(stem, title)] of the notebooks in reading order: by number, the
-    claims notebook (which collects the others' verdicts, ``LAST``) last;
-    the title is the notebook's first heading."""
-    stems = sorted((p.stem for p in (Path(root) / "notebooks").glob("[0-9][0-9]_*.ipynb")),
-                   key=lambda stem: (stem in LAST, stem))
+    """[(stem, title)] of the notebooks in reading order, which is their
+    numbers' (the claims notebook, which collects the others' verdicts, is
+    numbered last); the title is the notebook's first heading."""
+    stems = sorted(p.stem for p in (Path(root) / "notebooks").glob("[0-9][0-9]_*.ipynb"))
     found = []
     for stem in stems:
         cells = json.loads((Path(root) / "notebooks" / f"{stem}.ipynb").read_text())["cells"]
