@@ -192,7 +192,7 @@ COLUMNS = {
                                largest_error="error",
                                smallest_error="error"),
     "composition-energy": dict(orbit="exact", nfev="exact", energy_error="error",
-                               position_error="error"),
+                               position_error="error", velocity_error="error"),
     "composition-work": dict(setting="exact", nfev="exact", max_error="error"),
     "composition-check": dict(method="exact", threshold_y="error", threshold_yp="error",
                               orbit_y="error", orbit_yp="error", orbit_check_sum="error",
