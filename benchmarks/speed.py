@@ -559,7 +559,8 @@ def main(quick=False):
                   "(the download caches of uv and pip as they were)", ""]
         lines += table(["command", "seconds"], [[label, f"{s:.0f}"] for label, s in commands])
         lines += ["", "**Each notebook** in the fresh clone's `make reproduce` (two at a time; "
-                  "the claims notebook from the moment the others are done): wall seconds, "
+                  "12 and 14, which read the others' data, from the moment the others are done): "
+                  "wall seconds, "
                   "its kernel's CPU seconds and the part of them numba spent compiling", ""]
         lines += table(["notebook", "wall, s", "CPU, s", "compiling, s"],
                        [[name, *(f"{v:.1f}" for v in values[0])]

@@ -140,9 +140,9 @@ print(f"  one sweep per step: ~1e{np.log10(one_sweep_residual):.0f}")
 # Why (iii) asks for $p + 1$: with the double root 1 the error recursion
 # carries $e_1 - e_0$ forward like a velocity, $e_n \approx e_0 + n(e_1 - e_0)$
 # with $n \sim 1/h$.  `theory.two_step_order` runs the two-step method on
-# $y'' = -y$ from chosen starting values and fits the order: started as
-# the package starts it should give 2, with $y_0$ off by $h^2$ 1, with
-# $y_0$ off by $h^3$ 2.
+# $y'' = -y$ from chosen starting values and fits the order.  It should
+# give order 2 when started as the package starts, order 1 with $y_0$ off
+# by $h^2$, and order 2 again with $y_0$ off by $h^3$.
 
 # %%
 HENRICI_STEPS = [0.1, 0.05, 0.025, 0.0125]

@@ -65,8 +65,8 @@ display(Math(r"\begin{array}{rl|rl} k & y'' = F & k - 1 & y' = f \\ \hline "
 # %% [markdown]
 # Beyond the double root 1 of $\rho$ and the root 0 (the slaved $p''$),
 # degree 4 adds the root $-1$, degree 5 the roots of $\zeta^2 + 4\zeta + 1$,
-# $-2 \pm \sqrt 3$, and degree 6 those of $\zeta^2 + 10\zeta + 1$,
-# $-5 \pm 2\sqrt 6$.  A root outside the unit circle makes the method
+# $-2 \pm \sqrt 3$, and degree 6 the root $-1$ again and those of
+# $\zeta^2 + 10\zeta + 1$, $-5 \pm 2\sqrt 6$.  A root outside the unit circle makes the method
 # divergent: any perturbation, a rounding error included, grows like that
 # root to the power of the step count, however small $h$ is.  The
 # first-order polynomials have the same spurious factors one degree lower:

@@ -7,9 +7,10 @@
 # finds:
 #
 # * **The step, not the solver, is the limit.**  On the Pleiades (seven
-#   stars with close encounters) three uniform steps lose the step
-#   equation's solution at an encounter, whether it is solved by the sweep,
-#   by Newton's method with a kept matrix or by full Newton.  The uniform
+#   stars with close encounters) three uniform steps fail at an
+#   encounter, at the same step whether the equation is solved by the
+#   sweep, by Newton's method with a kept matrix or by full Newton: no
+#   solution is within their reach from the last knot.  The uniform
 #   runs that get through with $h \ge 0.001$ are off by 0.38 to 4.2, and
 #   each is flagged as too large.  Adaptive knots reach the end in every
 #   run, with no failed step equation.
@@ -40,11 +41,12 @@ from splinestep import problems, step
 plt = outputs.setup()
 
 # %% [markdown]
-# ## A step whose equation has no solution
+# ## A step whose equation has no solution near the last knot
 # The Pleiades problem (Hairer, Norsett and Wanner's PLEI) follows seven
 # stars in the plane to $t = 3$.  Near a close encounter the force
 # changes fast, $\partial F/\partial y$ grows like $1/r^3$, and a step too
-# large for the encounter can lose its equation's solution.
+# large for the encounter can lose the solution its iterations start near
+# (the previous knot's values).
 #
 # We run uniform steps from $h = 10^{-4}$ to $10^{-2}$, each solved three
 # ways: the fixed-point sweep, Newton's method with a kept matrix (the
@@ -159,11 +161,15 @@ print(f"adaptive: error / rtol {(adaptive.error / rtols).min():.0f} to "
 
 # %% [markdown]
 # Three uniform steps, $h = 0.0025$, $0.005$ and $0.01$, fail at a close
-# encounter: the sweep and both Newtons alike, at the same time.  The
-# iteration is not the cause: the step equation itself has lost its
-# solution.  Failure does not set in above one step size: $h = 0.0029$ and
-# $0.0035$ get through, because whether a step equation loses its solution
-# depends on where the knots fall relative to the close encounters.
+# encounter: the sweep and both Newtons alike, at the same time.  That
+# points at the step equation, not at one iteration: none of the three
+# finds a solution near the previous knot's values (we infer this from the
+# three failures; a solution farther away is not ruled out, and the
+# solver's message says no more: "the step equation may have no solution
+# near this guess").
+# Failure does not set in above one step size: $h = 0.0029$ and $0.0035$
+# get through, because whether a step fails depends on where the knots
+# fall relative to the close encounters.
 #
 # Getting through is not enough.  Every uniform run from $h = 0.001$ up
 # that reaches $t = 3$ does so with an error of 0.38 to 4.2, and its

@@ -298,17 +298,20 @@ for m, row in steps.iterrows():
 # least accurate on three of the four; on the near-linear rigid body,
 # where the period error decides, Fox-Goodwin, at the same cost, is about
 # 40 times more accurate, and central difference, explicit and cheaper per
-# step, about as accurate.  What the report's member has of its own is
-# the spline: its knots are those of a $C^2$ cubic, which serves as dense
+# step, about as accurate.
+#
+# What the report's member has of its own is the spline: its knots are those of a $C^2$ cubic, which serves as dense
 # output at no cost, and among the named conditionally stable members it
 # has the largest stability limit, $\sqrt{12}$, with half average
-# acceleration's period error.  It is the wrong choice for a discretised
-# structure at the accuracy structural analysis asks of the slow modes (a
+# acceleration's period error.
+#
+# It is the wrong choice for a discretised structure at the accuracy structural analysis asks of the slow modes (a
 # phase error of $10^{-3}$ here): its stability limit, not its accuracy,
 # sets its step, and average acceleration or generalized-alpha take steps
 # as large as the slow modes allow, fewer by a factor that grows like $m$
-# on the chain.  Where more accuracy is wanted than the report's member
-# reaches at its limit (its errors printed above, which fall as $m$
+# on the chain.
+#
+# Where more accuracy is wanted than the report's member reaches at its limit (its errors printed above, which fall as $m$
 # grows), it should be cheaper than average acceleration, its period error
 # being half of it (an inference from the period error: the chain runs
 # above ask for one accuracy only); Fox-Goodwin, held to a smaller step by

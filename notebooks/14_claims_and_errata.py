@@ -15,6 +15,7 @@ sys.path.insert(0, "../scripts")  # outputs.py: data/ and figures/; claims.py: t
 import claims
 import outputs
 
+# %%
 measured = claims.Measured()  # data/*.csv, each read once
 table = claims.claims_table(measured)
 outputs.save_data(table, "claims")

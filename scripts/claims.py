@@ -410,7 +410,7 @@ def bounded_energy(m):
         f"(exponent {one_sweep.energy_exponent:.2f}) downwards, and the "
         f"period shortens with it (mean $T_h/T - 1$ over 200 orbits "
         f"{sci(phase_drift.loc['spline, 1 sweep', 'period_error'])}). The "
-        f"position is not bounded: the polar angle lags by "
+        f"position is not bounded: the polar angle, averaged over each orbit, lags by "
         f"{sci(-phase_drift.loc['spline', 'drift_from_angle'])} rad per orbit (Verlet "
         f"{sci(-phase_drift.loc['Verlet', 'drift_from_angle'])}), measured against the exact "
         f"solution and, to a relative {sci(agreement, 1)}, from the periapsis passages alone",
@@ -699,7 +699,7 @@ def newmark_family(m):
         "accuracy structural analysis asks of the slow modes (here a phase error of 1e-3); "
         "where more is wanted than the report's member reaches at its stability limit, its "
         "half period error should make it cheaper than average acceleration (inferred, not "
-        "run), and Fox-Goodwin, at a similar number of steps, is far more accurate still",
+        "run), and Fox-Goodwin, with 1.4 times its steps, is far more accurate still",
         "beyond the report", "13_newmark_family", "Verdict")
 
 

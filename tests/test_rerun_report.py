@@ -281,3 +281,18 @@ def test_log_follows_the_work(monkeypatch, capsys):
     assert capsys.readouterr().out.splitlines() == [
         f"notebooks/{first.name}: started", f"{first.stem}: done",
         f"notebooks/{last.name}: started", f"{last.stem}: done"]
+
+
+@pytest.mark.parametrize("stem", reproduce.LAST)
+def test_a_last_notebook_reads_no_data_in_its_first_cell(stem):
+    """A notebook of LAST runs its first code cell beside the others, before
+    they have written data/: that cell may only import.  Every statement of
+    it is an import or a sys.path entry (a data read there would see the
+    data of the run before)."""
+    import ast
+    import jupytext
+    cell = next(c for c in jupytext.read(reproduce.ROOT / "notebooks" / f"{stem}.py").cells
+                if c.cell_type == "code")
+    for node in ast.parse(cell.source).body:
+        assert isinstance(node, (ast.Import, ast.ImportFrom)) or (
+            "sys.path" in ast.unparse(node)), (stem, ast.unparse(node))

@@ -3,8 +3,9 @@ the spline stepper's modified invariants, and the growth fitted to them
 (notebooks 08 and 10).
 
 A long run is sampled over whole orbits at a few orbit numbers (spaced
-logarithmically), at the method's own steps; in each sampled orbit the
-largest error of each invariant is kept.  ``fitted_growth`` then tells a
+logarithmically), at every one of the method's steps in them
+(``orbit_steps``); in each sampled orbit the largest error of each
+invariant is kept.  ``fitted_growth`` then tells a
 bounded error (exponent 0) from a drift (exponent 1), ``crossing`` finds
 the orbit where a sampled error passes a level.  ``fixed_step_runs`` makes
 the long fixed-step runs side by side, ``matching_tolerance`` picks
@@ -34,33 +35,32 @@ from ..problems import first_order
 ADAPTIVE_SPREAD = 0.05
 
 
-def orbit_sample_times(orbits, samples, period):
-    """Times spread over the sampled orbits, half a sample from each end.
+def orbit_steps(orbits, step, period):
+    """Every step of a fixed-step run that falls in the sampled orbits.
 
     Parameters
     ----------
     orbits : array_like of int
         Zero-based numbers of the sampled orbits (orbit k covers
         [k T, (k + 1) T)).
-    samples : int
-        Samples per orbit.
+    step : float
+        The run's step h.
     period : float
         The orbit's period T.
 
     Returns
     -------
-    ndarray, shape (len(orbits) * samples,)
-        Increasing times; move them to a method's steps with ``at_steps``.
+    ndarray
+        The increasing multiples n h with floor(n h / T) in ``orbits``:
+        the run's output times, so that the largest error in a sampled
+        orbit is taken over all of its steps, not over a few samples that
+        may miss the periapsis.
     """
-    orbits = np.asarray(orbits)
-    return ((orbits[:, None] + (np.arange(samples)[None, :] + 0.5) / samples)
-            * period).ravel()
-
-
-def at_steps(t, step):
-    """Each time moved to the nearest multiple of ``step`` (a step of the
-    method measured), so that the method is measured where it computed."""
-    return step * np.round(np.asarray(t) / step)
+    orbits = np.asarray(orbits, dtype=np.int64)
+    counts = [np.arange(np.floor(k * period / step), np.ceil((k + 1) * period / step) + 1)
+              for k in orbits]
+    t = step * np.concatenate(counts)
+    return np.unique(t[np.isin(np.floor(t / period).astype(np.int64), orbits)])
 
 
 def modified_energy(y, yp, mu, h):
@@ -224,7 +224,7 @@ def fixed_step_runs(problem, t_end, h, t_eval, threads=2):
     h : float
         The step of all three runs.
     t_eval : array_like
-        The output times, multiples of ``h`` (see ``at_steps``).
+        The output times, multiples of ``h`` (see ``orbit_steps``).
     threads : int, optional
         Threads to run them in.  The compiled loops release the GIL, so the
         runs go side by side; each result is, bit for bit, that of the same
