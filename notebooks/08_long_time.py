@@ -392,9 +392,10 @@ outputs.save_figure(fig, "variable-step-energy")
 # ## How this was measured
 #
 # * **Sampling.** Each long run is sampled over whole orbits at
-#   logarithmically spaced orbit numbers, at 64 of its own steps per
-#   sampled orbit, never on an interpolant between steps (whose error would
-#   be the interpolant's).  The three fixed-step runs go side by side in
+#   logarithmically spaced orbit numbers, at every one of its own steps in
+#   each sampled orbit (so that no peak at periapsis is missed), never on
+#   an interpolant between steps (whose error would be the
+#   interpolant's).  The three fixed-step runs go side by side in
 #   two threads (`long_time.fixed_step_runs`).
 # * **DOP853's tolerance.** Of rtol $10^{-4}$ to $10^{-7}$ (atol =
 #   rtol/100), the one whose largest position error over the first orbit is

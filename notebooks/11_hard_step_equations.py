@@ -9,8 +9,8 @@
 # * **The step, not the solver, is the limit.**  On the Pleiades (seven
 #   stars with close encounters) three uniform steps fail at an
 #   encounter, at the same step whether the equation is solved by the
-#   sweep, by Newton's method with a kept matrix or by full Newton: no
-#   solution is within their reach from the last knot.  The uniform
+#   sweep, by Newton's method with a kept matrix or by full Newton: we
+#   infer that the step equation has no solution near the last knot.  The uniform
 #   runs that get through with $h \ge 0.001$ are off by 0.38 to 4.2, and
 #   each is flagged as too large.  Adaptive knots reach the end in every
 #   run, with no failed step equation.
