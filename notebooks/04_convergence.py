@@ -286,7 +286,7 @@ for m, g in fixed.groupby("method", sort=False):
 # evaluations per step (second order), which fall from 3.24 at the largest
 # step to 2.00 at the smallest as the iteration converges in fewer sweeps.
 # With one sweep per step the spline evaluates $F$ once per step, as
-# Verlet does (and 15 times more per run for its step-size check), and its
+# Verlet does (plus 15 evaluations per run for its step-size check), and its
 # error is about 1.8 times Verlet's.
 #
 # Iterated to convergence, the spline stepper is Verlet on a modified force,

@@ -150,8 +150,9 @@ outputs.save_figure(fig, "family-spectra")
 # like $\Omega^{-2/3}$).  Middle: the period error divided by $\Omega^2$,
 # so that each member's leading constant is its level at small $\Omega$:
 # 1/24 for the report's member, $-1/24$ for central difference (a shorter
-# period), 1/12 for average acceleration, just above it generalized-alpha
-# and HHT, 0 for Fox-Goodwin; the curves of the conditionally stable
+# period), 1/12 for average acceleration, above it generalized-alpha
+# (19/216) and HHT (251/2400, a quarter above average acceleration's), 0
+# for Fox-Goodwin; the curves of the conditionally stable
 # members end at their limits.  Right: only the alpha members damp, both
 # like $\Omega^3$ at small $\Omega$; Newmark's members with $\gamma = 1/2$
 # have $\xi_h = 0$ and no curve.
