@@ -162,8 +162,9 @@ shown = [outputs.round_sig(orbits[0], 2), *orbits[1:]]
 for name, column in (("y", "position_error"), ("yp", "velocity_error")):
     error = np.exp(np.interp(np.log(orbits), np.log(composition.orbit),
                              np.log(composition[column])))   # as the crossings are found
-    print(f"order-4 composition, error in {name.replace('p', chr(39))} / its largest value: "
-          + ", ".join(f"{e / scale[name]:.1%} in orbit {k:,g}" for k, e in zip(shown, error)))
+    print(outputs.wrapped(
+        f"order-4 composition, error in {name.replace('p', chr(39))} / its largest value: "
+        + ", ".join(f"{e / scale[name]:.1%} in orbit {k:,g}" for k, e in zip(shown, error))))
 
 # %% [markdown]
 # Such a warning would not be a false alarm by this notebook's rule (an
