@@ -189,8 +189,8 @@ outputs.save_figure(fig, "method-phase-error")
 # stability limit $\sqrt{12}$), and the same
 # metric finds RK4's damping (below $2\sqrt2 \approx 2.83$) and growth
 # (above) where its closed form puts them.  The period error grows like
-# $x^2/24$ until near the limit, where it turns down: it is largest, 0.20,
-# at $\omega h = 3.11$, and as $\omega h \to \sqrt{12}$ the step's angle
+# $x^2/24$ until near the limit, where it turns down: it is largest among
+# the sampled runs, 0.20, at $\omega h = 3.11$, and as $\omega h \to \sqrt{12}$ the step's angle
 # $\Omega h$ tends to $\pi$ (two steps per numerical period), so that
 # $T_h/T - 1 = \omega h/(\Omega h) - 1$ tends to $\sqrt{12}/\pi - 1 = 0.103$.
 #

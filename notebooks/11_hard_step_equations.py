@@ -146,7 +146,7 @@ outputs.save_figure(fig, "pleiades-steps")
 
 # %%
 for h, group in uniform[uniform.status != 0].groupby("h"):
-    print(f"h = {h:g}: {len(group)} of {len(ITERATIONS)} iterations fail, at t = "
+    print(f"h = {h:g}: {len(group)} of the {len(ITERATIONS)} ways of solving fail, at t = "
           f"{' and '.join(sorted({f'{t:.3f}' for t in group.t_end}))}")
 reached = uniform[uniform.status == 0]
 for flagged, group in reached.groupby("flagged"):

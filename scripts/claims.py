@@ -348,7 +348,7 @@ def reaches_tolerance(m):
         f"evaluations for a max error of 1e-3 on the ellipse (interpolated on the "
         f"work-precision curves): spline {ev('spline (1 sweep)', 1e-3)} with one sweep, "
         f"{ev('spline (converged)', 1e-3)} iterated; RK4 {ev('RK4', 1e-3)}; "
-        f"scipy DOP853 {ev('scipy DOP853', 1e-3)}. For 1e-6: spline "
+        f"scipy DOP853 {ev('scipy DOP853', 1e-3)}. For 1e-6: spline with one sweep "
         f"{ev('spline (1 sweep)', 1e-6)}; RK4 {ev('RK4', 1e-6)}; DOP853 "
         f"{ev('scipy DOP853', 1e-6)}",
         "reproduced: it converges, but is not competitive",
