@@ -342,13 +342,13 @@ outputs.save_figure(fig, "composition-long")
 # ## For notebook 12: the step-size check on these runs
 # Both spline runs end flagged by the step-size check; notebook 12, which
 # studies the check, examines whether rightly, and finds the flags right
-# but late for the report's method.  The cell below (folded) writes what it
-# needs to `data/composition-check.csv`: for each run, the orbit where its
+# but late for the report's method.  The cell below writes what it needs
+# to `data/composition-check.csv`: for each run, the orbit where its
 # error passes the check's threshold (0.3 of the solution's size), and for
 # the spline runs the orbit where the check's own sum would, extrapolated
 # from the sum at the end of the run.
 
-# %% jupyter={"source_hidden": true}
+# %%
 check_rows = []
 for method, g in long_energy.groupby("method", sort=False):
     per_orbit = {"y": g.position_error.to_numpy(), "yp": g.velocity_error.to_numpy()}
