@@ -1,7 +1,7 @@
 # %% [markdown]
 # # Order 4 and 6: symmetric compositions of the spline step
 #
-# The report's last direction (Sec. 5) is higher order through splines of
+# One of the report's directions (Sec. 5) is higher order through splines of
 # higher degree; notebook 06 finds that they give no usable order.  Here
 # higher order is built from the cubic step itself, by symmetric
 # compositions of the spline step, beside Richardson extrapolation, RK4
@@ -17,8 +17,8 @@
 #   starts lower and drifts past it near orbit 4290, but stays ahead in
 #   position until both have lost the phase;
 # * **at equal work** order 4 beats Richardson extrapolation of the
-#   report's method (1.3 to 1.5 times fewer evaluations) but not RK4 (0.21
-#   to 0.28) or DOP853.
+#   report's method (which needs 1.3 to 1.5 times the evaluations) but
+#   not RK4 (which needs 0.21 to 0.28 times them) or DOP853.
 
 # %%
 import sys
@@ -70,7 +70,7 @@ display(HTML(outputs.html_table(   # the fitted slope / the slope from successiv
 
 # %%
 ellipse = cases["cannonball mu=0.6"]   # solved at the report's step, its default h = 0.01
-t_report = np.arange(0.0, 50.0 + 1e-9, 0.08)
+t_report = np.arange(0.0, 50.0 + 1e-9, 0.08)   # compared every 0.08 (the largest step)
 exact_report, _ = ellipse.reference(t_report)
 at_report_step = {order: np.max(np.abs(ellipse.solve(order=order, t_eval=t_report).y
                                        - exact_report)) for order in (2, 4, 6)}
@@ -319,11 +319,12 @@ outputs.save_figure(fig, "composition-long")
 # all climb to the size of the orbit, through the step-size check's
 # threshold (dashed grey; notebook 12 gives the check's verdict on these runs).
 #
-# The composition is symmetric but not conjugate to Verlet (its sub-steps
-# differ, so no single change of variables as in notebook 05 applies); its
-# bounded energy is not explained by a conjugacy (reversible methods on
-# integrable problems keep modified invariants nearly constant, Hairer,
-# Lubich and Wanner Ch. XI, which we have not measured here).
+# Why the composition's energy error stays bounded is not explained here.
+# It is symmetric but not conjugate to Verlet (its sub-steps differ, so no
+# single change of variables as in notebook 05 applies); the likely reason
+# is its reversibility, since reversible methods on integrable problems
+# keep modified invariants nearly constant (Hairer, Lubich and Wanner,
+# Ch. XI), which we have not measured.
 
 # %% [markdown]
 # ## What orders 4 and 6 buy

@@ -126,7 +126,7 @@ print(f"threshold: {long_check.threshold_y.iloc[0]:.2f} in y, "
       f"{long_check.threshold_yp.iloc[0]:.2f} in y'")
 for r in long_check.itertuples():
     by_sum = ("" if np.isnan(r.orbit_check_sum)
-              else f"; the check's sum near orbit {outputs.round_sig(r.orbit_check_sum, 2):,g}")
+              else f"; the check's sum in y' near orbit {outputs.round_sig(r.orbit_check_sum, 2):,g}")
     print(outputs.wrapped(
         f"{r.method}: past the threshold in y near orbit {outputs.round_sig(r.orbit_y, 2):,g}, "
         f"in y' near orbit {outputs.round_sig(r.orbit_yp, 2):,g}{by_sum}; in the last orbit "
