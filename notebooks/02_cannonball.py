@@ -275,7 +275,7 @@ quantities = (("path curvature $\\kappa$", "curvature", "C1", "-"),
               ("acceleration $|\\mathbf{x}''| = \\mu / r^2$", "acceleration", "C4", "--"),
               ("$|\\mathbf{x}''''|$, which sets the local error", "x4", "C2", "-."))
 for label, name, color, style in quantities:
-    axes[0].semilogy(t[one], c[name][one] / c[name][one & (c["r"] > 4.5)].max(), color=color,
+    axes[0].semilogy(t[one], c[name][one] / c[name][c["apoapsis_arc"]].max(), color=color,
                      linestyle=style, linewidth=1.6, label=label)
 axes[0].set_ylabel("value / its largest\nvalue at $r > 4.5$")
 axes[1].semilogy(c["middle"][first], c["rate"][first], color="C0",

@@ -56,7 +56,8 @@ def along_the_orbit(res, mu, inner=1.5, outer=4.5):
         ``acceleration`` (|x''|), ``x4`` (|x''''|) at the knots; ``middle``
         and ``rate`` (|change of the energy error| / step) on the steps;
         the masks ``one`` (knots of the first orbit) and ``first`` (steps of
-        the first orbit); ``apoapsis`` (the knot nearest half a period).
+        the first orbit); ``apoapsis_arc`` (the knots ending the steps of
+        the first orbit's apoapsis arc, the denominators of the ratios).
     """
     problem = problems.cannonball(mu)
     elements = problems.orbit_elements(mu)
@@ -94,7 +95,7 @@ def along_the_orbit(res, mu, inner=1.5, outer=4.5):
               x_err[peak], t[peak], r[peak]]
     table = pd.DataFrame({"quantity": list(QUANTITIES), "value": values})
     curves = dict(t=t, r=r, curvature=curvature, acceleration=x2, x4=x4, middle=middle,
-                  rate=rate, one=one, first=first, apoapsis=apoapsis)
+                  rate=rate, one=one, first=first, apoapsis_arc=np.r_[False, apo_arc])
     return table, curves
 
 
